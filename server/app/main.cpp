@@ -1,0 +1,82 @@
+// hdof: the hybrid depth-of-field render tool and server.
+#include "app/cli.h"
+#include "app/commands.h"
+#include "gpu/check.h"
+#include "image/image.h"
+#include "scene/scene.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(std::span<const std::string>);
+};
+
+const Command kCommands[] = {
+    {"render", "render a still image of a scene (pinhole raster or thin-lens reference)",
+     hdof::runRender},
+    {"compare", "print PSNR and SSIM between two images, optionally inside a mask",
+     hdof::runCompare},
+    {"bench", "measure G-buffer time, ray traversal speed and BVH build time", hdof::runBench},
+};
+
+void printUsage(FILE* out) {
+  std::fprintf(out,
+               "usage: hdof COMMAND [OPTIONS]\n\n"
+               "Hybrid depth of field: ray-traced and post-processed depth of field on Vulkan.\n\n"
+               "commands:\n");
+  for (const Command& c : kCommands) std::fprintf(out, "  %-10s %s\n", c.name, c.summary);
+  std::fprintf(out,
+               "\nRun 'hdof COMMAND --help' for a command's options.\n"
+               "Scenes: a .gltf/.glb path or builtin:NAME (");
+  auto names = hdof::builtinSceneNames();
+  for (size_t i = 0; i < names.size(); ++i)
+    std::fprintf(out, "%s%s", i ? ", " : "", names[i].c_str());
+  std::fprintf(out, ").\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // The Vulkan loader complains on stderr when headless without a runtime directory.
+  setenv("XDG_RUNTIME_DIR", "/tmp", 0);
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    printUsage(stdout);
+    return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "--version") {
+    std::printf("hdof 0.1.0\n");
+    return 0;
+  }
+  for (const Command& c : kCommands) {
+    if (args[0] != c.name) continue;
+    try {
+      return c.run(std::span<const std::string>(args).subspan(1));
+    } catch (const hdof::UsageError& e) {
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return 2;
+    } catch (const hdof::SceneError& e) {
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return 2;
+    } catch (const hdof::ImageError& e) {
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return 2;
+    } catch (const hdof::NoVulkanError& e) {
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hdof %s: error: %s\n", c.name, e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "hdof: unknown command '%s' (see hdof --help)\n", args[0].c_str());
+  return 2;
+}

@@ -1,0 +1,88 @@
+// Scene data as the GPU sees it: one world-space vertex/index soup for the raster pass, the same
+// triangles in BVH leaf order for traversal, materials, punctual lights. Storage buffers use the
+// scalar block layout, so these structs need no hand padding; the C++ side asserts the layout.
+#ifndef HDOF_SHARED_SCENE_DATA_H
+#define HDOF_SHARED_SCENE_DATA_H
+#include "types.h"
+
+HDOF_NAMESPACE_BEGIN
+
+// Descriptor set 0: the scene, shared by every pass and session.
+HDOF_CONST uint kSceneSet = 0;
+HDOF_CONST uint kBindingVertices = 0;
+HDOF_CONST uint kBindingIndices = 1;
+HDOF_CONST uint kBindingMaterials = 2;
+HDOF_CONST uint kBindingLights = 3;
+HDOF_CONST uint kBindingBvhNodes = 4;
+HDOF_CONST uint kBindingBvhTriangles = 5;
+HDOF_CONST uint kBindingTextures = 6;
+HDOF_CONST uint kMaxTextures = 64;
+
+HDOF_CONST uint kNoTexture = 0xffffffffu;
+
+struct Vertex {
+  vec3 position;  // world space
+  float uvPerMeter;  // texture-space length per world-space length here: picks the mip level
+  vec3 normal;  // world space, unit length
+  uint material;
+  vec2 uv;
+};
+
+struct Material {
+  vec4 baseColor;  // linear RGB, alpha unused (all opaque)
+  vec3 emissive;  // linear RGB radiance
+  float metallic;
+  float roughness;
+  uint baseColorTexture;  // index into the texture array or kNoTexture
+};
+
+HDOF_CONST uint kLightDirectional = 0;
+HDOF_CONST uint kLightPoint = 1;
+HDOF_CONST uint kLightSpot = 2;
+
+struct Light {
+  vec3 position;  // point, spot
+  uint type;
+  vec3 direction;  // unit vector the light travels along (directional, spot)
+  float range;  // 0: unlimited
+  vec3 color;  // colour times intensity (lux for directional, candela otherwise)
+  float spotCosInner;
+  float spotCosOuter;
+};
+
+// BVH node: an interior node's children are nodes leftOrFirst and leftOrFirst + 1; a leaf holds
+// triangleCount > 0 triangles starting at leftOrFirst in the leaf-ordered triangle array.
+struct BvhNode {
+  vec3 boundsMin;
+  uint leftOrFirst;
+  vec3 boundsMax;
+  uint triangleCount;
+};
+
+// A triangle in leaf order, stored for intersection (vertex and two edges); `index` is the
+// triangle's number in the index buffer, for shading.
+struct BvhTriangle {
+  vec3 v0;
+  uint index;
+  vec3 edge1;
+  float pad0_;
+  vec3 edge2;
+  float pad1_;
+};
+
+HDOF_CONST uint kBvhStackSize = 64;
+
+HDOF_NAMESPACE_END
+
+#ifdef __cplusplus
+#include <cstddef>
+static_assert(sizeof(hdof::gpu::Vertex) == 36);
+static_assert(offsetof(hdof::gpu::Vertex, uv) == 28);
+static_assert(sizeof(hdof::gpu::Material) == 36);
+static_assert(sizeof(hdof::gpu::Light) == 48);
+static_assert(sizeof(hdof::gpu::BvhNode) == 32);
+static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
+static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);
+#endif
+
+#endif
