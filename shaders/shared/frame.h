@@ -10,6 +10,9 @@ HDOF_NAMESPACE_BEGIN
 HDOF_CONST uint kPassSet = 1;
 HDOF_CONST uint kBindingFrame = 0;
 
+// Linear depth written where no surface is (the sky), in metres.
+HDOF_CONST float kBackgroundDepth = 1.0e5;
+
 struct FrameUniforms {
   mat4 viewProj;  // world to clip, Vulkan conventions (y down, depth 0..1)
   vec4 eye;  // xyz camera position, w tan(vertical fov / 2)

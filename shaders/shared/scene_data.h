@@ -15,8 +15,13 @@ HDOF_CONST uint kBindingMaterials = 2;
 HDOF_CONST uint kBindingLights = 3;
 HDOF_CONST uint kBindingBvhNodes = 4;
 HDOF_CONST uint kBindingBvhTriangles = 5;
-HDOF_CONST uint kBindingTextures = 6;
-HDOF_CONST uint kMaxTextures = 64;
+HDOF_CONST uint kBindingTextures = 6;  // one 2D array texture, a layer per scene texture
+
+// Scene textures are resampled to square layers of one array texture, so that any shader can
+// pick a texture per pixel without non-uniform descriptor indexing. The layer side is the
+// next power of two of the largest texture, at most this.
+HDOF_CONST uint kMaxTextureLayerSize = 1024;
+HDOF_CONST uint kMaxTextureLayers = 256;
 
 HDOF_CONST uint kNoTexture = 0xffffffffu;
 
@@ -33,7 +38,7 @@ struct Material {
   vec3 emissive;  // linear RGB radiance
   float metallic;
   float roughness;
-  uint baseColorTexture;  // index into the texture array or kNoTexture
+  uint baseColorTexture;  // layer of the texture array or kNoTexture
 };
 
 HDOF_CONST uint kLightDirectional = 0;
@@ -60,7 +65,8 @@ struct BvhNode {
 };
 
 // A triangle in leaf order, stored for intersection (vertex and two edges); `index` is the
-// triangle's number in the index buffer, for shading.
+// triangle's number in the index buffer, for shading. Padded to 48 bytes so that each row is one
+// aligned 16-byte load on GPUs.
 struct BvhTriangle {
   vec3 v0;
   uint index;
@@ -76,10 +82,11 @@ HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(hdof::gpu::Vertex) == 36);
-static_assert(offsetof(hdof::gpu::Vertex, uv) == 28);
-static_assert(sizeof(hdof::gpu::Material) == 36);
-static_assert(sizeof(hdof::gpu::Light) == 48);
+static_assert(sizeof(hdof::gpu::Vertex) == 40);
+static_assert(offsetof(hdof::gpu::Vertex, normal) == 16);
+static_assert(offsetof(hdof::gpu::Vertex, uv) == 32);
+static_assert(sizeof(hdof::gpu::Material) == 40);
+static_assert(sizeof(hdof::gpu::Light) == 52);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
 static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);

@@ -1,0 +1,94 @@
+// hdof bench: the speed figures of the foundation: BVH build, G-buffer, ray traversal.
+#include "app/commands.h"
+#include "app/scene_options.h"
+#include "render/frame_pipeline.h"
+#include "scene/gpu_scene.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+namespace hdof {
+namespace {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+int runBench(std::span<const std::string> args) {
+  SceneOptions sceneOptions;
+  LensOptions lensOptions;
+  std::string size = "640x360";
+  uint32_t frames = 10;
+  bool json = false;
+  ArgParser parser("bench", "[options]",
+                   "Measures BVH build time, G-buffer time and reference ray traversal speed\n"
+                   "(1 ray per pixel) and prints medians. Example:\n"
+                   "  hdof bench --scene ../shared/scenes/living-room/living-room.gltf "
+                   "--camera closeup");
+  addSceneOptions(parser, sceneOptions);
+  addLensOptions(parser, lensOptions);
+  parser.option("--size", "WxH", "image size (default 640x360)", &size);
+  parser.option("--frames", "N", "frames measured per figure, after one warm-up (default 10)",
+                &frames);
+  parser.flag("--json", "print one JSON object instead of lines", &json);
+  if (!parser.parse(args)) return 0;
+  Size2 imageSize = parseSize(size, 4096);
+  if (frames < 1 || frames > 10000) throw UsageError("--frames must be 1 to 10000");
+
+  LoadedScene loaded = loadSceneWithBvh(sceneOptions);
+  std::vector<double> buildMs;
+  for (int i = 0; i < 3; ++i)
+    buildMs.push_back(buildBvh(loaded.scene.vertices, loaded.scene.indices).buildMs);
+
+  FrameRequest request;
+  request.camera = resolveCamera(loaded.scene, sceneOptions.camera);
+  request.lens = resolveLens(lensOptions, loaded, sceneOptions.camera);
+  request.settings.width = imageSize.width;
+  request.settings.height = imageSize.height;
+  gpu::Context context(contextOptions(sceneOptions));
+  GpuScene gpuScene(context, loaded.scene, loaded.bvh);
+  FramePipeline pipeline(context, loaded.scene, gpuScene, imageSize.width, imageSize.height);
+
+  auto measure = [&](RenderMode mode, const char* pass) {
+    request.mode = mode;
+    std::vector<double> ms;
+    for (uint32_t i = 0; i <= frames; ++i) {
+      request.settings.frameIndex = i;
+      double passMs = pipeline.render(request).passMsOf(pass);
+      if (i > 0) ms.push_back(passMs);  // frame 0 warms up (shader compilation on some drivers)
+    }
+    return median(ms);
+  };
+  double gbufferMs = measure(RenderMode::Pinhole, "gbuffer");
+  request.settings.samplesPerPixel = 1;
+  double referenceMs = measure(RenderMode::Reference, "reference");
+  double rays = double(imageSize.width) * imageSize.height;
+  double mraysPerSecond = rays / (referenceMs * 1e-3) * 1e-6;
+
+  if (json) {
+    std::printf(
+        "{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%zu,\"width\":%u,\"height\":%u,"
+        "\"bvh_build_ms\":%.2f,\"bvh_nodes\":%zu,\"bvh_depth\":%u,\"gbuffer_ms\":%.3f,"
+        "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
+        context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
+        imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
+        loaded.bvh.depth, gbufferMs, referenceMs, mraysPerSecond, frames);
+    return 0;
+  }
+  std::printf("device=\"%s\"\n", context.deviceName().c_str());
+  std::printf("scene=%s triangles=%zu size=%ux%u\n", loaded.scene.name.c_str(),
+              loaded.scene.triangleCount(), imageSize.width, imageSize.height);
+  std::printf("bvh_build_ms=%.1f bvh_nodes=%zu bvh_depth=%u (median of 3)\n", median(buildMs),
+              loaded.bvh.nodes.size(), loaded.bvh.depth);
+  std::printf("gbuffer_ms=%.2f (median of %u frames)\n", gbufferMs, frames);
+  std::printf("reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
+              referenceMs, mraysPerSecond, frames);
+  return 0;
+}
+
+}  // namespace hdof

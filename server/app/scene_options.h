@@ -1,0 +1,46 @@
+// Options that several subcommands share: which scene, camera, lens and device, and how they
+// turn into a loaded scene, a camera and a lens (with user-facing errors).
+#pragma once
+
+#include "app/cli.h"
+#include "gpu/context.h"
+#include "render/camera.h"
+#include "scene/bvh.h"
+#include "scene/scene.h"
+
+#include <string>
+
+namespace hdof {
+
+struct SceneOptions {
+  std::string scene = "builtin:dof";
+  std::string camera;  // empty: the scene's first camera
+  std::string device;
+  bool verbose = false;
+};
+
+struct LensOptions {
+  float focalLengthMm = 50.0f;
+  float fNumber = 2.8f;
+  float focusDistance = 0.0f;  // 0: the camera's suggestion, else autofocus at the image centre
+  uint32_t blades = 0;
+};
+
+void addSceneOptions(ArgParser& parser, SceneOptions& options);
+void addLensOptions(ArgParser& parser, LensOptions& options);
+
+struct LoadedScene {
+  Scene scene;
+  Bvh bvh;
+  double loadMs = 0.0;
+};
+
+LoadedScene loadSceneWithBvh(const SceneOptions& options);
+// The named camera (or the first); throws UsageError listing the scene's cameras.
+Camera resolveCamera(const Scene& scene, const std::string& name);
+// The lens from the options; focus distance from the options, the scene camera's suggestion, or
+// the distance to the surface at the centre of the image. Throws UsageError on bad values.
+Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera);
+gpu::ContextOptions contextOptions(const SceneOptions& options);
+
+}  // namespace hdof

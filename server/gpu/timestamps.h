@@ -1,0 +1,31 @@
+// GPU timestamps around passes: begin(cmd, name) ... end(cmd); after the command buffer has
+// finished, results() gives each pass's GPU time in milliseconds, in recording order.
+#pragma once
+
+#include "gpu/resources.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hdof::gpu {
+
+class GpuTimer {
+ public:
+  GpuTimer(const Context& context, uint32_t maxPasses = 32);
+  // Starts a new frame's measurements (resets the queries; record before any begin()).
+  void reset(VkCommandBuffer cmd);
+  void begin(VkCommandBuffer cmd, const std::string& pass);
+  void end(VkCommandBuffer cmd);
+  // Reads the queries written by the last finished command buffer.
+  std::vector<std::pair<std::string, double>> results() const;
+
+ private:
+  const Context* context_;
+  QueryPool pool_;
+  uint32_t capacity_;
+  std::vector<std::string> names_;
+  bool enabled_;
+};
+
+}  // namespace hdof::gpu

@@ -1,0 +1,134 @@
+#include "render/frame_pipeline.h"
+
+#include <chrono>
+#include <cstring>
+
+namespace hdof {
+namespace {
+
+constexpr struct {
+  RenderMode mode;
+  const char* name;
+} kModes[] = {{RenderMode::Pinhole, "pinhole"}, {RenderMode::Reference, "reference"}};
+
+void computeToCompute(VkCommandBuffer cmd) {
+  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+}  // namespace
+
+const char* modeName(RenderMode mode) {
+  for (const auto& m : kModes)
+    if (m.mode == mode) return m.name;
+  return "?";
+}
+
+std::optional<RenderMode> parseMode(const std::string& name) {
+  for (const auto& m : kModes)
+    if (name == m.name) return m.mode;
+  return std::nullopt;
+}
+
+std::string modeNames() {
+  std::string names;
+  for (const auto& m : kModes) names += (names.empty() ? "" : "|") + std::string(m.name);
+  return names;
+}
+
+double FrameStats::passMsOf(const std::string& pass) const {
+  for (const auto& [name, ms] : passMs)
+    if (name == pass) return ms;
+  return 0.0;
+}
+
+FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
+                             const GpuScene& gpuScene, uint32_t width, uint32_t height)
+    : context_(context),
+      scene_(scene),
+      gpuScene_(gpuScene),
+      targets_(std::make_unique<RenderTargets>(context, width, height)),
+      gbuffer_(context, gpuScene),
+      reference_(context, gpuScene),
+      tonemap_(context),
+      frameUniforms_(context, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                     gpu::MemoryUse::Upload, "frame uniforms"),
+      timer_(context),
+      commandBuffer_(context.allocateCommandBuffer()),
+      fence_(gpu::createFence(context)) {
+  gbuffer_.bindTargets(*targets_);
+}
+
+FramePipeline::~FramePipeline() { vkDeviceWaitIdle(context_.device()); }
+
+void FramePipeline::resize(uint32_t width, uint32_t height) {
+  if (width == targets_->width && height == targets_->height) return;
+  VK_CHECK(vkQueueWaitIdle(context_.queue()));
+  targets_.reset();
+  targets_ = std::make_unique<RenderTargets>(context_, width, height);
+  gbuffer_.bindTargets(*targets_);
+}
+
+FrameStats FramePipeline::render(const FrameRequest& request) {
+  if (request.settings.width != targets_->width || request.settings.height != targets_->height)
+    throw std::logic_error("FramePipeline::render: request size differs from the targets");
+  gpu::FrameUniforms uniforms =
+      makeFrameUniforms(scene_, request.camera, request.lens, request.settings);
+  std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
+
+  VkCommandBuffer cmd = commandBuffer_;
+  VK_CHECK(vkResetCommandBuffer(cmd, 0));
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
+  timer_.reset(cmd);
+  // The previous frame's writes (same targets) are done and visible before this one starts.
+  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                     VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                     VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+
+  const gpu::Image* radiance = &targets_->color;
+  switch (request.mode) {
+    case RenderMode::Pinhole:
+      timer_.begin(cmd, "gbuffer");
+      gbuffer_.record(cmd, frameUniforms_, *targets_);
+      timer_.end(cmd);
+      break;
+    case RenderMode::Reference:
+      timer_.begin(cmd, "reference");
+      reference_.record(cmd, frameUniforms_, *targets_, request.firstSample,
+                        request.settings.samplesPerPixel);
+      timer_.end(cmd);
+      computeToCompute(cmd);
+      radiance = &targets_->accumulation;
+      break;
+  }
+  timer_.begin(cmd, "tonemap");
+  tonemap_.record(cmd, frameUniforms_, *radiance, *targets_);
+  timer_.end(cmd);
+  VK_CHECK(vkEndCommandBuffer(cmd));
+
+  auto start = std::chrono::steady_clock::now();
+  VkFence fence = fence_;
+  VK_CHECK(vkResetFences(context_.device(), 1, &fence));
+  context_.submit(cmd, fence);
+  VK_CHECK(vkWaitForFences(context_.device(), 1, &fence, VK_TRUE, UINT64_MAX));
+  FrameStats stats;
+  stats.wallMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.passMs = timer_.results();
+  for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
+  return stats;
+}
+
+ImageRgba8 FramePipeline::image() const {
+  ImageRgba8 image;
+  image.width = targets_->width;
+  image.height = targets_->height;
+  image.pixels.resize(size_t(image.width) * image.height * 4);
+  std::memcpy(image.pixels.data(), targets_->readback.mapped(), image.pixels.size());
+  return image;
+}
+
+}  // namespace hdof

@@ -1,0 +1,71 @@
+// One session's frame pipeline: the passes of DESIGN.md strung together for a mode, rendering
+// into the session's targets. Synchronous: render() returns when the frame is on the CPU.
+#pragma once
+
+#include "gpu/timestamps.h"
+#include "image/image.h"
+#include "render/camera.h"
+#include "render/gbuffer_pass.h"
+#include "render/reference_pass.h"
+#include "render/tonemap_pass.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hdof {
+
+enum class RenderMode { Pinhole, Reference };
+
+const char* modeName(RenderMode mode);
+std::optional<RenderMode> parseMode(const std::string& name);
+std::string modeNames();  // "pinhole|reference"
+
+struct FrameRequest {
+  RenderMode mode = RenderMode::Pinhole;
+  Camera camera;
+  Lens lens;
+  FrameSettings settings;  // settings.samplesPerPixel: rays per pixel this frame (reference)
+  uint32_t firstSample = 0;  // reference: 0 starts a new accumulation
+};
+
+struct FrameStats {
+  std::vector<std::pair<std::string, double>> passMs;  // GPU time per pass
+  double gpuMs = 0.0;  // sum of the passes
+  double wallMs = 0.0;  // submit to finish, as the CPU saw it
+  double passMsOf(const std::string& pass) const;
+};
+
+class FramePipeline {
+ public:
+  FramePipeline(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene,
+                uint32_t width, uint32_t height);
+  ~FramePipeline();
+  FramePipeline(const FramePipeline&) = delete;
+  FramePipeline& operator=(const FramePipeline&) = delete;
+
+  // Renders one frame (request.settings' size must match the targets; see resize()).
+  FrameStats render(const FrameRequest& request);
+  void resize(uint32_t width, uint32_t height);
+  uint32_t width() const { return targets_->width; }
+  uint32_t height() const { return targets_->height; }
+  // The last rendered frame, tonemapped.
+  ImageRgba8 image() const;
+
+ private:
+  const gpu::Context& context_;
+  const Scene& scene_;
+  const GpuScene& gpuScene_;
+  std::unique_ptr<RenderTargets> targets_;
+  GBufferPass gbuffer_;
+  ReferencePass reference_;
+  TonemapPass tonemap_;
+  gpu::Buffer frameUniforms_;
+  gpu::GpuTimer timer_;
+  VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
+  gpu::Fence fence_;
+};
+
+}  // namespace hdof

@@ -1,0 +1,206 @@
+#include "render/gbuffer_pass.h"
+
+#include <shared/frame.h>
+
+#include <array>
+
+namespace hdof {
+namespace {
+
+constexpr std::array<VkFormat, 3> kColorFormats = {
+    VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
+
+gpu::RenderPass createRenderPass(const gpu::Context& context) {
+  std::vector<VkAttachmentDescription> attachments;
+  std::vector<VkAttachmentReference> colorRefs;
+  for (VkFormat format : kColorFormats) {
+    VkAttachmentDescription a{};
+    a.format = format;
+    a.samples = VK_SAMPLE_COUNT_1_BIT;
+    a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+    a.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    a.initialLayout = VK_IMAGE_LAYOUT_GENERAL;
+    a.finalLayout = VK_IMAGE_LAYOUT_GENERAL;
+    colorRefs.push_back({static_cast<uint32_t>(attachments.size()), VK_IMAGE_LAYOUT_GENERAL});
+    attachments.push_back(a);
+  }
+  VkAttachmentDescription depth{};
+  depth.format = VK_FORMAT_D32_SFLOAT;
+  depth.samples = VK_SAMPLE_COUNT_1_BIT;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  depth.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  depth.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  depth.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  depth.finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL;
+  VkAttachmentReference depthRef{static_cast<uint32_t>(attachments.size()),
+                                 VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
+  attachments.push_back(depth);
+
+  VkSubpassDescription subpass{};
+  subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  subpass.colorAttachmentCount = static_cast<uint32_t>(colorRefs.size());
+  subpass.pColorAttachments = colorRefs.data();
+  subpass.pDepthStencilAttachment = &depthRef;
+  // Earlier compute passes read these targets; later ones read what this pass writes.
+  VkSubpassDependency dependencies[2] = {};
+  dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
+  dependencies[0].dstSubpass = 0;
+  dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  dependencies[0].srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+  dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                                 VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
+                                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependencies[1].srcSubpass = 0;
+  dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
+  dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+  dependencies[1].srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  dependencies[1].dstStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+  dependencies[1].dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
+
+  VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+  info.attachmentCount = static_cast<uint32_t>(attachments.size());
+  info.pAttachments = attachments.data();
+  info.subpassCount = 1;
+  info.pSubpasses = &subpass;
+  info.dependencyCount = 2;
+  info.pDependencies = dependencies;
+  VkRenderPass renderPass = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateRenderPass(context.device(), &info, nullptr, &renderPass));
+  return gpu::RenderPass(context.device(), renderPass);
+}
+
+}  // namespace
+
+GBufferPass::GBufferPass(const gpu::Context& context, const GpuScene& scene)
+    : context_(context), scene_(scene) {
+  renderPass_ = createRenderPass(context);
+  passSetLayout_ =
+      gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true, "gbuffer pass set");
+  layout_ = gpu::createPipelineLayout(context, {scene.setLayout(), passSetLayout_}, 0);
+
+  gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
+  gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
+  VkPipelineShaderStageCreateInfo stages[2] = {};
+  stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vertex;
+  stages[0].pName = "main";
+  stages[1] = stages[0];
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = fragment;
+
+  VkVertexInputBindingDescription binding{0, sizeof(gpu::Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attributes[] = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu::Vertex, position)},
+      {1, 0, VK_FORMAT_R32_SFLOAT, offsetof(gpu::Vertex, uvPerMeter)},
+      {2, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu::Vertex, normal)},
+      {3, 0, VK_FORMAT_R32_UINT, offsetof(gpu::Vertex, material)},
+      {4, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(gpu::Vertex, uv)},
+  };
+  VkPipelineVertexInputStateCreateInfo vertexInput{
+      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertexInput.vertexBindingDescriptionCount = 1;
+  vertexInput.pVertexBindingDescriptions = &binding;
+  vertexInput.vertexAttributeDescriptionCount = std::size(attributes);
+  vertexInput.pVertexAttributeDescriptions = attributes;
+  VkPipelineInputAssemblyStateCreateInfo inputAssembly{
+      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  inputAssembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{
+      VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides too
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{
+      VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{
+      VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_LESS;
+  std::array<VkPipelineColorBlendAttachmentState, kColorFormats.size()> blends{};
+  for (auto& b : blends) b.colorWriteMask = 0xf;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = static_cast<uint32_t>(blends.size());
+  blend.pAttachments = blends.data();
+  VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamicStates;
+
+  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  info.stageCount = 2;
+  info.pStages = stages;
+  info.pVertexInputState = &vertexInput;
+  info.pInputAssemblyState = &inputAssembly;
+  info.pViewportState = &viewport;
+  info.pRasterizationState = &raster;
+  info.pMultisampleState = &multisample;
+  info.pDepthStencilState = &depth;
+  info.pColorBlendState = &blend;
+  info.pDynamicState = &dynamic;
+  info.layout = layout_;
+  info.renderPass = renderPass_;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), "gbuffer");
+  pipeline_ = gpu::Pipeline(context.device(), pipeline);
+}
+
+void GBufferPass::bindTargets(const RenderTargets& targets) {
+  VkImageView views[] = {targets.color.view(), targets.specular.view(), targets.normalDepth.view(),
+                         targets.depth.view()};
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = renderPass_;
+  info.attachmentCount = std::size(views);
+  info.pAttachments = views;
+  info.width = targets.width;
+  info.height = targets.height;
+  info.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
+  framebuffer_ = gpu::Framebuffer(context_.device(), framebuffer);
+}
+
+void GBufferPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
+                         const RenderTargets& targets) const {
+  // The background: sky radiance, no surface (depth far beyond any scene).
+  VkClearValue clears[4] = {};
+  const auto* u = static_cast<const gpu::FrameUniforms*>(frameUniforms.mapped());
+  clears[0].color = {{u->skyColor.r, u->skyColor.g, u->skyColor.b, 1.0f}};
+  clears[1].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
+  clears[2].color = {{0.0f, 0.0f, 0.0f, gpu::kBackgroundDepth}};
+  clears[3].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = renderPass_;
+  begin.framebuffer = framebuffer_;
+  begin.renderArea = {{0, 0}, {targets.width, targets.height}};
+  begin.clearValueCount = 4;
+  begin.pClearValues = clears;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  VkViewport viewport{0.0f, 0.0f, float(targets.width), float(targets.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, {targets.width, targets.height}};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+  scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_);
+  gpu::DescriptorWriter().uniformBuffer(gpu::kBindingFrame, frameUniforms)
+      .push(context_, cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, gpu::kPassSet);
+  VkBuffer vertexBuffer = scene_.vertexBuffer().get();
+  VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
+  vkCmdBindIndexBuffer(cmd, scene_.indexBuffer().get(), 0, VK_INDEX_TYPE_UINT32);
+  vkCmdDrawIndexed(cmd, scene_.indexCount(), 1, 0, 0, 0);
+  vkCmdEndRenderPass(cmd);
+}
+
+}  // namespace hdof

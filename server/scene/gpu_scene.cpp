@@ -1,0 +1,165 @@
+#include "scene/gpu_scene.h"
+
+#include <stb_image_resize.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace hdof {
+namespace {
+
+constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+
+// Resamples every texture to one square power-of-two size (sRGB-aware) with a full mip chain,
+// and uploads them as the layers of one array image.
+gpu::Image uploadTextureArray(const gpu::Context& context, const std::vector<Texture>& textures) {
+  uint32_t side = 1;
+  for (const Texture& t : textures)
+    while (side < std::max(t.levels[0].width, t.levels[0].height) &&
+           side < gpu::kMaxTextureLayerSize)
+      side *= 2;
+  std::vector<Texture> layers;
+  if (textures.empty()) layers.push_back(Texture{"white", {{1, 1, {255, 255, 255, 255}}}});
+  for (const Texture& t : textures) {
+    Texture layer{t.name, {{side, side, std::vector<uint8_t>(size_t(side) * side * 4)}}};
+    const Texture::Level& source = t.levels[0];
+    if (!stbir_resize_uint8_srgb(source.rgba.data(), int(source.width), int(source.height), 0,
+                                 layer.levels[0].rgba.data(), int(side), int(side), 0, 4, 3, 0))
+      throw SceneError("cannot resample texture '" + t.name + "'");
+    buildMipChain(layer);
+    layers.push_back(std::move(layer));
+  }
+
+  gpu::ImageDesc desc;
+  desc.width = desc.height = layers[0].levels[0].width;
+  desc.mipLevels = static_cast<uint32_t>(layers[0].levels.size());
+  desc.layers = static_cast<uint32_t>(layers.size());
+  desc.arrayView = true;
+  desc.format = VK_FORMAT_R8G8B8A8_SRGB;
+  desc.usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  gpu::Image image(context, desc, "scene textures");
+
+  VkDeviceSize total = 0;
+  for (const Texture& layer : layers)
+    for (const auto& level : layer.levels) total += level.rgba.size();
+  gpu::Buffer staging(context, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, gpu::MemoryUse::Upload,
+                      "texture staging");
+  std::vector<VkBufferImageCopy> regions;
+  VkDeviceSize offset = 0;
+  for (uint32_t layer = 0; layer < layers.size(); ++layer) {
+    for (uint32_t mip = 0; mip < layers[layer].levels.size(); ++mip) {
+      const Texture::Level& level = layers[layer].levels[mip];
+      std::memcpy(static_cast<uint8_t*>(staging.mapped()) + offset, level.rgba.data(),
+                  level.rgba.size());
+      VkBufferImageCopy region{};
+      region.bufferOffset = offset;
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, mip, layer, 1};
+      region.imageExtent = {level.width, level.height, 1};
+      regions.push_back(region);
+      offset += level.rgba.size();
+    }
+  }
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    gpu::transitionImage(cmd, image.get(), VK_IMAGE_LAYOUT_UNDEFINED,
+                         VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT);
+    vkCmdCopyBufferToImage(cmd, staging.get(), image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                           static_cast<uint32_t>(regions.size()), regions.data());
+    gpu::transitionImage(cmd, image.get(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                         VK_ACCESS_SHADER_READ_BIT);
+  });
+  return image;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh)
+    : indexCount_(static_cast<uint32_t>(scene.indices.size())),
+      lightCount_(static_cast<uint32_t>(scene.lights.size())) {
+  if (scene.textures.size() > gpu::kMaxTextureLayers)
+    throw SceneError("scene '" + scene.name + "' has " + std::to_string(scene.textures.size()) +
+                     " textures; at most " + std::to_string(gpu::kMaxTextureLayers) +
+                     " are supported");
+  vertices_ = gpu::createBufferWithData(
+      context, std::span(scene.vertices),
+      kStorage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "scene vertices");
+  indices_ = gpu::createBufferWithData(context, std::span(scene.indices),
+                                       kStorage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+                                       "scene indices");
+  materials_ = gpu::createBufferWithData(context, std::span(scene.materials), kStorage,
+                                         "scene materials");
+  lights_ = gpu::createBufferWithData(context, std::span(scene.lights), kStorage, "scene lights");
+  bvhNodes_ = gpu::createBufferWithData(context, std::span(bvh.nodes), kStorage, "bvh nodes");
+  bvhTriangles_ =
+      gpu::createBufferWithData(context, std::span(bvh.triangles), kStorage, "bvh triangles");
+
+  textures_ = uploadTextureArray(context, scene.textures);
+
+  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  samplerInfo.magFilter = VK_FILTER_LINEAR;
+  samplerInfo.minFilter = VK_FILTER_LINEAR;
+  samplerInfo.mipmapMode = VK_SAMPLER_MIPMAP_MODE_LINEAR;
+  samplerInfo.addressModeU = samplerInfo.addressModeV = samplerInfo.addressModeW =
+      VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  samplerInfo.maxLod = VK_LOD_CLAMP_NONE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateSampler(context.device(), &samplerInfo, nullptr, &sampler));
+  sampler_ = gpu::Sampler(context.device(), sampler);
+
+  constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  setLayout_ = gpu::createSetLayout(
+      context,
+      {{kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kBuffer},
+       {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}},
+      false, "scene set");
+  VkDescriptorPoolSize sizes[] = {{kBuffer, 6},
+                                  {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+  VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  poolInfo.maxSets = 1;
+  poolInfo.poolSizeCount = 2;
+  poolInfo.pPoolSizes = sizes;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateDescriptorPool(context.device(), &poolInfo, nullptr, &pool));
+  pool_ = gpu::DescriptorPool(context.device(), pool);
+  VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  allocInfo.descriptorPool = pool_;
+  allocInfo.descriptorSetCount = 1;
+  VkDescriptorSetLayout layout = setLayout_;
+  allocInfo.pSetLayouts = &layout;
+  VK_CHECK(vkAllocateDescriptorSets(context.device(), &allocInfo, &descriptorSet_));
+
+  const gpu::Buffer* buffers[] = {&vertices_, &indices_, &materials_,
+                                  &lights_, &bvhNodes_, &bvhTriangles_};
+  std::vector<VkDescriptorBufferInfo> bufferInfos;
+  for (const gpu::Buffer* b : buffers) bufferInfos.push_back(b->descriptor());
+  VkDescriptorImageInfo imageInfo{sampler_, textures_.view(),
+                                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  std::vector<VkWriteDescriptorSet> writes;
+  for (uint32_t i = 0; i < bufferInfos.size(); ++i) {
+    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    write.dstSet = descriptorSet_;
+    write.dstBinding = i;
+    write.descriptorCount = 1;
+    write.descriptorType = kBuffer;
+    write.pBufferInfo = &bufferInfos[i];
+    writes.push_back(write);
+  }
+  VkWriteDescriptorSet textureWrite{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  textureWrite.dstSet = descriptorSet_;
+  textureWrite.dstBinding = gpu::kBindingTextures;
+  textureWrite.descriptorCount = 1;
+  textureWrite.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  textureWrite.pImageInfo = &imageInfo;
+  writes.push_back(textureWrite);
+  vkUpdateDescriptorSets(context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
+                         nullptr);
+}
+
+void GpuScene::bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint,
+                    VkPipelineLayout layout) const {
+  vkCmdBindDescriptorSets(cmd, bindPoint, layout, gpu::kSceneSet, 1, &descriptorSet_, 0, nullptr);
+}
+
+}  // namespace hdof

@@ -1,0 +1,35 @@
+// A scene and its BVH on the GPU: the buffers and textures of descriptor set 0, uploaded once and
+// shared by every pass and every session.
+#pragma once
+
+#include "gpu/pipeline.h"
+#include "scene/bvh.h"
+#include "scene/scene.h"
+
+namespace hdof {
+
+class GpuScene {
+ public:
+  GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh);
+
+  VkDescriptorSetLayout setLayout() const { return setLayout_; }
+  VkDescriptorSet descriptorSet() const { return descriptorSet_; }
+  // Binds descriptor set 0 for a pipeline whose layout starts with setLayout().
+  void bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint, VkPipelineLayout layout) const;
+  const gpu::Buffer& vertexBuffer() const { return vertices_; }
+  const gpu::Buffer& indexBuffer() const { return indices_; }
+  uint32_t indexCount() const { return indexCount_; }
+  uint32_t lightCount() const { return lightCount_; }
+
+ private:
+  gpu::Buffer vertices_, indices_, materials_, lights_, bvhNodes_, bvhTriangles_;
+  gpu::Image textures_;  // a 2D array, one layer per scene texture
+  gpu::Sampler sampler_;
+  gpu::DescriptorSetLayout setLayout_;
+  gpu::DescriptorPool pool_;
+  VkDescriptorSet descriptorSet_ = VK_NULL_HANDLE;
+  uint32_t indexCount_ = 0;
+  uint32_t lightCount_ = 0;
+};
+
+}  // namespace hdof

@@ -1,0 +1,11 @@
+// Set 1, binding 0: the frame uniforms every pass reads.
+#ifndef HDOF_LIB_FRAME_GLSL
+#define HDOF_LIB_FRAME_GLSL
+#include "shared/frame.h"
+
+layout(set = 1, binding = kBindingFrame, std140) uniform Frame { FrameUniforms frame; };
+
+// World-space width of one pixel per metre of distance from the camera.
+float pixelAngle() { return 2.0 * frame.eye.w / float(frame.image.y); }
+
+#endif

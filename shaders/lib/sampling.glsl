@@ -1,0 +1,51 @@
+// Random numbers and sample patterns for the ray tracers.
+#ifndef HDOF_LIB_SAMPLING_GLSL
+#define HDOF_LIB_SAMPLING_GLSL
+
+uint pcgHash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+float toUnitFloat(uint bits) { return float(bits >> 8) * (1.0 / 16777216.0); }
+
+// A per-pixel random offset in [0,1)^2 that decorrelates the low-discrepancy sequence below.
+vec2 pixelRotation(uvec2 pixel, uint salt) {
+  uint h = pcgHash(pixel.x * 1973u + pixel.y * 9277u + salt * 26699u);
+  return vec2(toUnitFloat(h), toUnitFloat(pcgHash(h)));
+}
+
+// Point i of the R2 sequence (Roberts 2018), rotated: well spread for every prefix length.
+vec2 r2Sample(uint i, vec2 rotation) {
+  return fract(rotation + float(i) * vec2(0.7548776662466927, 0.5698402909980532));
+}
+
+// Point i of the 4-D Kronecker sequence with the generalised golden ratio (Roberts 2018), rotated:
+// for ray samples that choose a pixel position and a lens position together.
+vec4 r4Sample(uint i, vec4 rotation) {
+  const vec4 alpha = vec4(0.8566748838545029, 0.7338918566271260, 0.6287067210378087,
+                          0.5385972572236101);
+  return fract(rotation + float(i) * alpha);
+}
+
+vec4 pixelRotation4(uvec2 pixel, uint salt) {
+  return vec4(pixelRotation(pixel, salt), pixelRotation(pixel, salt + 101u));
+}
+
+// Shirley-Chiu concentric map from the unit square to the unit disc (keeps strata).
+vec2 concentricDisc(vec2 u) {
+  vec2 p = 2.0 * u - 1.0;
+  if (p.x == 0.0 && p.y == 0.0) return vec2(0.0);
+  float r, phi;
+  if (abs(p.x) > abs(p.y)) {
+    r = p.x;
+    phi = (3.14159265358979 / 4.0) * (p.y / p.x);
+  } else {
+    r = p.y;
+    phi = (3.14159265358979 / 2.0) - (3.14159265358979 / 4.0) * (p.x / p.y);
+  }
+  return r * vec2(cos(phi), sin(phi));
+}
+
+#endif

@@ -1,0 +1,38 @@
+// Thin-lens ray tracing over the whole frame, accumulated progressively: each dispatch adds
+// sampleCount rays per pixel to a running sum (alpha counts the rays). The ground truth that the
+// other modes are measured against.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/scene.glsl"
+#include "lib/frame.glsl"
+#include "lib/shading.glsl"
+#include "lib/bvh_traverse.glsl"
+#include "lib/ray_shading.glsl"
+#include "lib/sampling.glsl"
+#include "lib/camera_rays.glsl"
+
+layout(set = 1, binding = 1, rgba32f) uniform image2D accumulation;
+
+layout(push_constant) uniform Push {
+  uint firstSample;  // 0 starts a new accumulation
+  uint sampleCount;
+} push;
+
+void main() {
+  uvec2 pixel = gl_GlobalInvocationID.xy;
+  if (any(greaterThanEqual(pixel, frame.image.xy))) return;
+  vec4 rotation = pixelRotation4(pixel, frame.image.z);
+  bool jitter = frame.options.y != 0u;
+  vec3 sum = vec3(0.0);
+  for (uint i = 0u; i < push.sampleCount; ++i) {
+    vec4 u = r4Sample(push.firstSample + i, rotation);
+    vec2 position = vec2(pixel) + (jitter ? u.xy : vec2(0.5));
+    vec3 origin;
+    vec3 direction = thinLensRay(position, concentricDisc(u.zw), origin);
+    sum += traceCameraRay(origin, direction).radiance;
+  }
+  vec4 previous = push.firstSample == 0u ? vec4(0.0) : imageLoad(accumulation, ivec2(pixel));
+  imageStore(accumulation, ivec2(pixel), previous + vec4(sum, float(push.sampleCount)));
+}

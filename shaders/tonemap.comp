@@ -1,0 +1,28 @@
+// HDR radiance to 8-bit sRGB. The source's alpha is a sample count when it is not 1 (progressive
+// accumulation), so the colour is divided by it.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+
+layout(set = 1, binding = 1) uniform sampler2D radiance;  // any float format
+layout(set = 1, binding = 2, rgba8) uniform writeonly image2D display;
+
+// Filmic curve fitted to ACES (Narkowicz 2015).
+vec3 filmic(vec3 x) {
+  return clamp(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14), 0.0, 1.0);
+}
+
+vec3 srgbEncode(vec3 linear) {
+  return mix(linear * 12.92, 1.055 * pow(linear, vec3(1.0 / 2.4)) - 0.055,
+             greaterThan(linear, vec3(0.0031308)));
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  vec4 value = texelFetch(radiance, pixel, 0);
+  vec3 color = value.a > 0.0 ? value.rgb / value.a : vec3(0.0);
+  imageStore(display, pixel, vec4(srgbEncode(filmic(color * frame.skyColor.w)), 1.0));
+}
