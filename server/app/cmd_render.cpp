@@ -55,16 +55,9 @@ int runRender(std::span<const std::string> args) {
 
   double gpuMs = 0.0;
   if (request.mode == RenderMode::Reference) {
-    // Batches of about a million rays keep each submission short.
-    uint64_t pixels = uint64_t(imageSize.width) * imageSize.height;
-    uint32_t batch = static_cast<uint32_t>(std::clamp<uint64_t>(1000000 / pixels, 1, 64));
     Progress progress("reference", spp);
-    for (uint32_t done = 0; done < spp; done += request.settings.samplesPerPixel) {
-      request.firstSample = done;
-      request.settings.samplesPerPixel = std::min(batch, spp - done);
-      gpuMs += pipeline.render(request).gpuMs;
-      progress.update(done + request.settings.samplesPerPixel);
-    }
+    gpuMs = pipeline.renderReference(request, spp, [&](uint32_t done) { progress.update(done); })
+                .gpuMs;
   } else {
     gpuMs = pipeline.render(request).gpuMs;
   }

@@ -69,6 +69,9 @@ int main(int argc, char** argv) {
     } catch (const hdof::ImageError& e) {
       std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
       return 2;
+    } catch (const hdof::DeviceChoiceError& e) {
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return 2;
     } catch (const hdof::NoVulkanError& e) {
       std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
       return 1;

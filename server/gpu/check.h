@@ -19,6 +19,11 @@ struct NoVulkanError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The device asked for (--device) does not exist or cannot run hdof: a usage error.
+struct DeviceChoiceError : NoVulkanError {
+  using NoVulkanError::NoVulkanError;
+};
+
 const char* resultName(VkResult result);
 [[noreturn]] void throwVulkanError(VkResult result, const char* call, const char* file, int line);
 

@@ -185,14 +185,14 @@ Context::Context(const ContextOptions& options) {
       for (size_t i = 0; i < candidates.size(); ++i)
         names += (i ? ", " : "") + std::to_string(i) + ": " + candidates[i].properties.deviceName;
       vkDestroyInstance(instance_, nullptr);
-      throw NoVulkanError("no Vulkan device matches '" + options.device + "' (devices: " + names +
-                          ")");
+      throw DeviceChoiceError("no Vulkan device matches '" + options.device +
+                              "' (devices: " + names + ")");
     }
     if (!chosen->rejection.empty()) {
       std::string message = std::string("device ") + chosen->properties.deviceName + " " +
                             chosen->rejection + "; pick another with --device";
       vkDestroyInstance(instance_, nullptr);
-      throw NoVulkanError(message);
+      throw DeviceChoiceError(message);
     }
   } else {
     for (const Candidate& c : candidates)

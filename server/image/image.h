@@ -29,9 +29,12 @@ struct ImageComparison {
   uint64_t pixels = 0;  // pixels compared
 };
 
-// PSNR over RGB and SSIM over luma (8x8 windows... see image_metrics.cpp) between two images of
-// equal size; where a mask is given, only pixels whose mask value is >= 128 count.
-// Throws ImageError when the sizes differ or the mask selects nothing.
+// PSNR over RGB and SSIM over luma (Rec. 601 weights, as in Wang et al. 2004: 11x11 Gaussian
+// window with sigma 1.5, C1 = (0.01*255)^2, C2 = (0.03*255)^2; at the image border the window
+// shrinks to the pixels inside) between two images of equal size. Where a mask (same size) is
+// given, only pixels whose mask red value is >= 128 count: PSNR over their RGB, SSIM as the mean
+// of the SSIM map over them, whose windows still read the neighbours outside the mask.
+// Throws ImageError when the sizes differ or nothing is selected.
 ImageComparison compareImages(const ImageRgba8& a, const ImageRgba8& b,
                               const ImageRgba8* mask = nullptr);
 

@@ -1,5 +1,6 @@
 #include "render/frame_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 
@@ -33,7 +34,10 @@ std::optional<RenderMode> parseMode(const std::string& name) {
 
 std::string modeNames() {
   std::string names;
-  for (const auto& m : kModes) names += (names.empty() ? "" : "|") + std::string(m.name);
+  for (const auto& m : kModes) {
+    if (!names.empty()) names += '|';
+    names += m.name;
+  }
   return names;
 }
 
@@ -120,6 +124,23 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   stats.passMs = timer_.results();
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
   return stats;
+}
+
+FrameStats FramePipeline::renderReference(FrameRequest request, uint32_t raysPerPixel,
+                                          const std::function<void(uint32_t)>& onProgress) {
+  request.mode = RenderMode::Reference;
+  uint64_t pixels = uint64_t(request.settings.width) * request.settings.height;
+  uint32_t batch = static_cast<uint32_t>(std::clamp<uint64_t>(1000000 / pixels, 1, 64));
+  FrameStats total;
+  for (uint32_t done = 0; done < raysPerPixel; done += request.settings.samplesPerPixel) {
+    request.firstSample = done;
+    request.settings.samplesPerPixel = std::min(batch, raysPerPixel - done);
+    FrameStats stats = render(request);
+    total.gpuMs += stats.gpuMs;
+    total.wallMs += stats.wallMs;
+    if (onProgress) onProgress(done + request.settings.samplesPerPixel);
+  }
+  return total;
 }
 
 ImageRgba8 FramePipeline::image() const {

@@ -9,6 +9,7 @@
 #include "render/reference_pass.h"
 #include "render/tonemap_pass.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -48,6 +49,10 @@ class FramePipeline {
 
   // Renders one frame (request.settings' size must match the targets; see resize()).
   FrameStats render(const FrameRequest& request);
+  // Renders `reference` with raysPerPixel rays per pixel in submissions of about a million rays
+  // (short enough for any driver's watchdog); onProgress(rays per pixel done) after each.
+  FrameStats renderReference(FrameRequest request, uint32_t raysPerPixel,
+                             const std::function<void(uint32_t)>& onProgress = {});
   void resize(uint32_t width, uint32_t height);
   uint32_t width() const { return targets_->width; }
   uint32_t height() const { return targets_->height; }

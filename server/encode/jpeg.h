@@ -1,0 +1,17 @@
+// JPEG encoding of RGBA8 frames with TurboJPEG, for files and for the streamed frames.
+#pragma once
+
+#include "image/image.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace hdof {
+
+// Returns the JPEG file's bytes; alpha is dropped. quality is 1..100; subsample420 halves the
+// chroma resolution (smaller and faster, softer colour edges) instead of keeping it at 4:4:4.
+// Safe to call from several threads at once: each thread keeps its own compressor.
+// Throws std::invalid_argument on a bad image or quality, std::runtime_error when TurboJPEG fails.
+std::vector<uint8_t> encodeJpeg(const ImageRgba8& image, int quality, bool subsample420 = true);
+
+}  // namespace hdof

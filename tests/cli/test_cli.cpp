@@ -1,0 +1,114 @@
+// The command line through the real binary: bad input gives one line naming the problem and
+// exit code 2, never a crash; good input writes the image.
+#include "image/image.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+struct Result {
+  int exitCode = -1;
+  std::string stdoutText, stderrText;
+};
+
+std::filesystem::path tempDir() {
+  auto dir = std::filesystem::temp_directory_path() / ("hdof-cli-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+Result runHdof(const std::string& args) {
+  auto dir = tempDir();
+  std::string command = std::string(HDOF_BINARY) + " " + args + " >" + (dir / "out.txt").string() +
+                        " 2>" + (dir / "err.txt").string();
+  int status = std::system(command.c_str());
+  Result result;
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.stdoutText = slurp(dir / "out.txt");
+  result.stderrText = slurp(dir / "err.txt");
+  return result;
+}
+
+// Bad usage: exit code 2 and exactly one line on stderr that mentions `expected`.
+void expectUsageError(const std::string& args, const std::string& expected) {
+  Result r = runHdof(args);
+  EXPECT_EQ(r.exitCode, 2) << args << "\nstderr: " << r.stderrText;
+  EXPECT_EQ(std::count(r.stderrText.begin(), r.stderrText.end(), '\n'), 1)
+      << args << "\nstderr: " << r.stderrText;
+  EXPECT_NE(r.stderrText.find(expected), std::string::npos)
+      << args << "\nstderr: " << r.stderrText;
+}
+
+const std::string kOut = "--out " + (tempDir() / "x.png").string();
+
+TEST(Cli, BadRenderInputIsAOneLineErrorWithExitCode2) {
+  expectUsageError("render --scene /no/such/scene.gltf " + kOut, "/no/such/scene.gltf");
+  expectUsageError("render --scene builtin:nope " + kOut, "nope");
+  expectUsageError("render --camera nope " + kOut, "nope");
+  expectUsageError("render --size 0x0 " + kOut, "0x0");
+  expectUsageError("render --size 100000x100000 " + kOut, "100000x100000");
+  expectUsageError("render --size wide " + kOut, "wide");
+  expectUsageError("render --f-number -2 " + kOut, "--f-number");
+  expectUsageError("render --f-number nan " + kOut, "nan");
+  expectUsageError("render --mode blurry " + kOut, "blurry");
+  expectUsageError("render --spp 0 --mode reference " + kOut, "--spp");
+  expectUsageError("render --bogus " + kOut, "--bogus");
+  expectUsageError("render", "--out");
+  expectUsageError("render --out picture.bmp", "picture.bmp");
+  expectUsageError("frobnicate", "frobnicate");
+  expectUsageError("render --device no-such-gpu " + kOut, "no-such-gpu");
+}
+
+TEST(Cli, CorruptSceneFileIsAOneLineError) {
+  auto path = tempDir() / "corrupt.gltf";
+  std::ofstream(path) << "{ this is not json";
+  expectUsageError("render --scene " + path.string() + " " + kOut, "corrupt.gltf");
+  auto binary = tempDir() / "corrupt.glb";
+  std::ofstream(binary) << "glTF\x02garbage";
+  expectUsageError("render --scene " + binary.string() + " " + kOut, "corrupt.glb");
+}
+
+TEST(Cli, CompareErrors) {
+  expectUsageError("compare /no/a.png /no/b.png", "/no/a.png");
+  expectUsageError("compare onlyone.png", "");
+}
+
+TEST(Cli, HelpListsCommandsAndOptions) {
+  Result top = runHdof("--help");
+  EXPECT_EQ(top.exitCode, 0);
+  for (const char* command : {"render", "compare", "bench"})
+    EXPECT_NE(top.stdoutText.find(command), std::string::npos) << command;
+  Result render = runHdof("render --help");
+  EXPECT_EQ(render.exitCode, 0);
+  for (const char* option : {"--scene", "--camera", "--mode", "--spp", "--size", "--focal-length",
+                             "--f-number", "--focus-distance", "--no-pixel-jitter", "--out"})
+    EXPECT_NE(render.stdoutText.find(option), std::string::npos) << option;
+  EXPECT_EQ(runHdof("").exitCode, 2);
+}
+
+TEST(Cli, RenderWritesTheImageAndCompareReadsIt) {
+  auto png = tempDir() / "pinhole.png";
+  Result r = runHdof("render --scene builtin:dof --size 64x36 --out " + png.string());
+  ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+  EXPECT_NE(r.stdoutText.find("pinhole.png"), std::string::npos);
+  hdof::ImageRgba8 image = hdof::readImage(png.string());
+  EXPECT_EQ(image.width, 64u);
+  EXPECT_EQ(image.height, 36u);
+  Result same = runHdof("compare " + png.string() + " " + png.string());
+  EXPECT_EQ(same.exitCode, 0);
+  EXPECT_NE(same.stdoutText.find("psnr_db=inf ssim=1.0000"), std::string::npos) << same.stdoutText;
+}
+
+}  // namespace

@@ -1,0 +1,58 @@
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+
+namespace hdof::test {
+
+gpu::Context& testContext() {
+  static gpu::Context context;
+  return context;
+}
+
+SceneOnGpu& testScene(const std::string& spec) {
+  static std::map<std::string, std::unique_ptr<SceneOnGpu>> scenes;
+  auto& entry = scenes[spec];
+  if (!entry) {
+    entry = std::make_unique<SceneOnGpu>();
+    entry->scene = loadScene(spec);
+    entry->bvh = buildBvh(entry->scene.vertices, entry->scene.indices);
+    entry->gpu = std::make_unique<GpuScene>(testContext(), entry->scene, entry->bvh);
+  }
+  return *entry;
+}
+
+ImageRgba8 renderImage(const RenderSpec& spec) {
+  SceneOnGpu& scene = testScene(spec.scene);
+  const SceneCamera* sceneCamera =
+      spec.camera.empty() ? &scene.scene.cameras.front() : scene.scene.findCamera(spec.camera);
+  EXPECT_NE(sceneCamera, nullptr) << spec.camera;
+  FrameRequest request;
+  request.mode = spec.mode;
+  request.camera = Camera::fromScene(*sceneCamera);
+  request.lens = spec.lens;
+  if (request.lens.focusDistance <= 0.0f)
+    request.lens.focusDistance = sceneCamera->focusDistance.value_or(5.0f);
+  request.settings.width = spec.width;
+  request.settings.height = spec.height;
+  request.settings.pixelJitter = spec.pixelJitter;
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+  if (spec.mode == RenderMode::Reference)
+    pipeline.renderReference(request, spec.raysPerPixel);
+  else
+    pipeline.render(request);
+  return pipeline.image();
+}
+
+double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    if (i % 4 == 3) continue;
+    double d = double(a.pixels[i]) - double(b.pixels[i]);
+    sum += d * d;
+    ++count;
+  }
+  return sum / double(count);
+}
+
+}  // namespace hdof::test

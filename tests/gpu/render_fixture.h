@@ -1,0 +1,43 @@
+// Shared set-up for GPU tests: one Vulkan context per test binary, scenes loaded once, and a
+// helper that renders an image of a scene in a mode.
+#pragma once
+
+#include "gpu/context.h"
+#include "image/image.h"
+#include "render/frame_pipeline.h"
+#include "scene/bvh.h"
+#include "scene/gpu_scene.h"
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace hdof::test {
+
+inline const std::string kLivingRoom = HDOF_SHARED_DIR "/scenes/living-room/living-room.gltf";
+
+struct SceneOnGpu {
+  Scene scene;
+  Bvh bvh;
+  std::unique_ptr<GpuScene> gpu;
+};
+
+gpu::Context& testContext();
+SceneOnGpu& testScene(const std::string& spec);
+
+struct RenderSpec {
+  std::string scene = "builtin:dof";
+  std::string camera;  // empty: the first
+  RenderMode mode = RenderMode::Pinhole;
+  uint32_t width = 160, height = 90;
+  uint32_t raysPerPixel = 1;  // reference
+  bool pixelJitter = true;
+  Lens lens;  // focusDistance 0: the camera's suggestion, else 5 m
+};
+
+ImageRgba8 renderImage(const RenderSpec& spec);
+
+// Mean squared error over RGB, in 8-bit units squared.
+double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b);
+
+}  // namespace hdof::test
