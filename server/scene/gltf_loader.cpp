@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cctype>
 #include <cstring>
 #include <iostream>
 #include <map>
@@ -89,6 +90,11 @@ class AccessorReader {
   }
 
   size_t count() const { return count_; }
+  bool holdsIndices() const {
+    return components_ == 1 && (componentType_ == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                componentType_ == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
+                                componentType_ == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT);
+  }
   int components() const { return components_; }
 
   float component(size_t element, int component) const {
@@ -228,7 +234,7 @@ class GltfSceneBuilder {
     const tinygltf::Node& node = model_.nodes[nodeIndex];
     glm::mat4 world = parentTransform * localTransform(node);
     if (node.mesh >= 0 && node.mesh < static_cast<int>(model_.meshes.size())) {
-      addMesh(model_.meshes[node.mesh], world);
+      addMesh(node.mesh, world);
     }
     if (node.camera >= 0 && node.camera < static_cast<int>(model_.cameras.size())) {
       addCamera(model_.cameras[node.camera], node, world);
@@ -243,11 +249,14 @@ class GltfSceneBuilder {
     for (int child : node.children) visitNode(child, world, depth + 1);
   }
 
-  void addMesh(const tinygltf::Mesh& mesh, const glm::mat4& world) {
+  void addMesh(int meshIndex, const glm::mat4& world) {
+    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    std::string meshName =
+        "mesh " + std::to_string(meshIndex) + (mesh.name.empty() ? "" : " '" + mesh.name + "'");
     glm::mat3 normalTransform = glm::inverseTranspose(glm::mat3(world));
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       const tinygltf::Primitive& primitive = mesh.primitives[p];
-      std::string what = "mesh '" + mesh.name + "' primitive " + std::to_string(p);
+      std::string what = meshName + " primitive " + std::to_string(p);
       if (primitive.mode != TINYGLTF_MODE_TRIANGLES) {
         warn(what + ": skipped (only triangle lists are supported)");
         continue;
@@ -272,12 +281,11 @@ class GltfSceneBuilder {
         throw SceneError(what + ": vertex attributes of different lengths or types");
       }
       uint32_t material =
-          primitive.material >= 0 && primitive.material < static_cast<int>(scene_.materials.size())
+          primitive.material >= 0 && primitive.material < static_cast<int>(model_.materials.size())
               ? static_cast<uint32_t>(primitive.material)
               : defaultMaterial();
 
       uint32_t firstVertex = static_cast<uint32_t>(scene_.vertices.size());
-      scene_.vertices.reserve(scene_.vertices.size() + vertexCount);
       for (size_t i = 0; i < vertexCount; ++i) {
         gpu::Vertex vertex{};
         vertex.position = glm::vec3(world * glm::vec4(positions.vec3(i), 1.0f));
@@ -290,7 +298,7 @@ class GltfSceneBuilder {
 
       if (primitive.indices >= 0) {
         AccessorReader indices(model_, primitive.indices, what + " indices");
-        scene_.indices.reserve(scene_.indices.size() + indices.count() / 3 * 3);
+        if (!indices.holdsIndices()) throw SceneError(what + ": indices are not unsigned integers");
         for (size_t i = 0; i + 2 < indices.count(); i += 3) {
           for (size_t k = 0; k < 3; ++k) {
             uint32_t index = indices.index(i + k);
@@ -431,17 +439,18 @@ Scene loadGltfScene(const std::string& path) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string error, warning;
-  std::string extension = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-  bool binary = extension == ".glb" || extension == ".GLB";
+  std::string suffix = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+  for (char& c : suffix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  bool binary = suffix == ".glb";
   bool loaded = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
                        : loader.LoadASCIIFromFile(&model, &error, &warning, path);
   if (!loaded) throw SceneError("cannot read scene '" + path + "': " + firstLine(error));
   if (!warning.empty())
     std::cerr << "warning: scene '" << path << "': " << firstLine(warning) << "\n";
-  for (const std::string& extension : model.extensionsRequired) {
-    if (!kSupportedRequiredExtensions.contains(extension)) {
+  for (const std::string& required : model.extensionsRequired) {
+    if (!kSupportedRequiredExtensions.contains(required)) {
       throw SceneError("cannot load scene '" + path + "': it requires the glTF extension " +
-                       extension + ", which is not supported");
+                       required + ", which is not supported");
     }
   }
   try {

@@ -110,7 +110,7 @@ void generateMissingNormals(Scene& scene) {
 // the area ratio, averaged over the triangles around each vertex (zero-area ones carry no scale).
 void computeUvPerMeter(Scene& scene) {
   std::vector<float> sum(scene.vertices.size(), 0.0f);
-  std::vector<uint16_t> count(scene.vertices.size(), 0);
+  std::vector<uint32_t> count(scene.vertices.size(), 0);
   for (size_t t = 0; t < scene.indices.size(); t += 3) {
     const uint32_t* corner = &scene.indices[t];
     const gpu::Vertex& a = scene.vertices[corner[0]];
@@ -123,7 +123,7 @@ void computeUvPerMeter(Scene& scene) {
     float ratio = std::sqrt(uvArea / worldArea);
     for (int k = 0; k < 3; ++k) {
       sum[corner[k]] += ratio;
-      if (count[corner[k]] < UINT16_MAX) ++count[corner[k]];
+      ++count[corner[k]];
     }
   }
   for (size_t i = 0; i < scene.vertices.size(); ++i) {
