@@ -1,25 +1,14 @@
-// G-buffer: the whole scene is one world-space vertex/index soup drawn in one call.
+// G-buffer, visibility stage: every triangle's three corners in a row (a non-indexed draw), so
+// the triangle's number is the vertex number / 3 on all three corners: no primitive-id support
+// needed, and the same value whichever corner is the provoking one.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/frame.glsl"
 
 layout(location = 0) in vec3 inPosition;
-layout(location = 1) in float inUvPerMeter;
-layout(location = 2) in vec3 inNormal;
-layout(location = 3) in uint inMaterial;
-layout(location = 4) in vec2 inUv;
-
-layout(location = 0) out vec3 outPosition;
-layout(location = 1) out vec3 outNormal;
-layout(location = 2) out vec2 outUv;
-layout(location = 3) out float outUvPerMeter;
-layout(location = 4) flat out uint outMaterial;
+layout(location = 0) flat out uint outTriangle;
 
 void main() {
-  outPosition = inPosition;
-  outNormal = inNormal;
-  outUv = inUv;
-  outUvPerMeter = inUvPerMeter;
-  outMaterial = inMaterial;
+  outTriangle = uint(gl_VertexIndex) / 3u;
   gl_Position = frame.viewProj * vec4(inPosition, 1.0);
 }

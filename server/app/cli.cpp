@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -130,7 +131,7 @@ uint32_t parseCount(const std::string& text, const std::string& what) {
   errno = 0;
   char* end = nullptr;
   unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || text[0] == '-' || end != text.c_str() + text.size() || errno == ERANGE ||
+  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) || end != text.c_str() + text.size() || errno == ERANGE ||
       value > 0xffffffffull)
     throw UsageError(what + ": '" + text + "' is not a whole number from 0 to 4294967295");
   return static_cast<uint32_t>(value);

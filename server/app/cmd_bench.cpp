@@ -54,19 +54,23 @@ int runBench(std::span<const std::string> args) {
   GpuScene gpuScene(context, loaded.scene, loaded.bvh);
   FramePipeline pipeline(context, loaded.scene, gpuScene, imageSize.width, imageSize.height);
 
-  auto measure = [&](RenderMode mode, const char* pass) {
+  auto measure = [&](RenderMode mode, std::initializer_list<const char*> passes) {
     request.mode = mode;
     std::vector<double> ms;
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
-      double passMs = pipeline.render(request).passMsOf(pass);
+      FrameStats stats = pipeline.render(request);
+      double passMs = 0.0;
+      for (const char* pass : passes) passMs += stats.passMsOf(pass);
       if (i > 0) ms.push_back(passMs);  // frame 0 warms up (shader compilation on some drivers)
     }
     return median(ms);
   };
-  double gbufferMs = measure(RenderMode::Pinhole, "gbuffer");
+  double visibilityMs = measure(RenderMode::Pinhole, {"visibility"});
+  double resolveMs = measure(RenderMode::Pinhole, {"gbuffer"});
+  double gbufferMs = measure(RenderMode::Pinhole, {"visibility", "gbuffer"});
   request.settings.samplesPerPixel = 1;
-  double referenceMs = measure(RenderMode::Reference, "reference");
+  double referenceMs = measure(RenderMode::Reference, {"reference"});
   double rays = double(imageSize.width) * imageSize.height;
   double mraysPerSecond = rays / (referenceMs * 1e-3) * 1e-6;
 
@@ -74,10 +78,11 @@ int runBench(std::span<const std::string> args) {
     std::printf(
         "{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%zu,\"width\":%u,\"height\":%u,"
         "\"bvh_build_ms\":%.2f,\"bvh_nodes\":%zu,\"bvh_depth\":%u,\"gbuffer_ms\":%.3f,"
+        "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,"
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
         context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
-        loaded.bvh.depth, gbufferMs, referenceMs, mraysPerSecond, frames);
+        loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, referenceMs, mraysPerSecond, frames);
     return 0;
   }
   std::printf("device=\"%s\"\n", context.deviceName().c_str());
@@ -85,7 +90,8 @@ int runBench(std::span<const std::string> args) {
               loaded.scene.triangleCount(), imageSize.width, imageSize.height);
   std::printf("bvh_build_ms=%.1f bvh_nodes=%zu bvh_depth=%u (median of 3)\n", median(buildMs),
               loaded.bvh.nodes.size(), loaded.bvh.depth);
-  std::printf("gbuffer_ms=%.2f (median of %u frames)\n", gbufferMs, frames);
+  std::printf("gbuffer_ms=%.2f visibility_ms=%.2f resolve_ms=%.2f (medians of %u frames)\n",
+              gbufferMs, visibilityMs, resolveMs, frames);
   std::printf("reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
               referenceMs, mraysPerSecond, frames);
   return 0;

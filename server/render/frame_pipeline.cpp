@@ -95,8 +95,11 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   const gpu::Image* radiance = &targets_->color;
   switch (request.mode) {
     case RenderMode::Pinhole:
+      timer_.begin(cmd, "visibility");
+      gbuffer_.recordVisibility(cmd, frameUniforms_, *targets_);
+      timer_.end(cmd);
       timer_.begin(cmd, "gbuffer");
-      gbuffer_.record(cmd, frameUniforms_, *targets_);
+      gbuffer_.recordResolve(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
       break;
     case RenderMode::Reference:

@@ -7,8 +7,8 @@
 namespace hdof {
 namespace {
 
-constexpr std::array<VkFormat, 3> kColorFormats = {
-    VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT};
+constexpr std::array<VkFormat, 1> kColorFormats = {VK_FORMAT_R32_UINT};
+constexpr uint32_t kNoTriangle = 0xffffffffu;
 
 gpu::RenderPass createRenderPass(const gpu::Context& context) {
   std::vector<VkAttachmentDescription> attachments;
@@ -76,7 +76,13 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
 }  // namespace
 
 GBufferPass::GBufferPass(const gpu::Context& context, const GpuScene& scene)
-    : context_(context), scene_(scene) {
+    : context_(context),
+      scene_(scene),
+      resolve_(gpu::createComputePipeline(
+          context, "gbuffer_resolve.comp", scene.setLayout(),
+          {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
   renderPass_ = createRenderPass(context);
   passSetLayout_ =
       gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true, "gbuffer pass set");
@@ -93,14 +99,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const GpuScene& scene)
   stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
   stages[1].module = fragment;
 
-  VkVertexInputBindingDescription binding{0, sizeof(gpu::Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription attributes[] = {
-      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu::Vertex, position)},
-      {1, 0, VK_FORMAT_R32_SFLOAT, offsetof(gpu::Vertex, uvPerMeter)},
-      {2, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu::Vertex, normal)},
-      {3, 0, VK_FORMAT_R32_UINT, offsetof(gpu::Vertex, material)},
-      {4, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(gpu::Vertex, uv)},
-  };
+  VkVertexInputBindingDescription binding{0, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attributes[] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}};
   VkPipelineVertexInputStateCreateInfo vertexInput{
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
   vertexInput.vertexBindingDescriptionCount = 1;
@@ -157,8 +157,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, const GpuScene& scene)
 }
 
 void GBufferPass::bindTargets(const RenderTargets& targets) {
-  VkImageView views[] = {targets.color.view(), targets.specular.view(), targets.normalDepth.view(),
-                         targets.depth.view()};
+  VkImageView views[] = {targets.visibility.view(), targets.depth.view()};
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = renderPass_;
   info.attachmentCount = std::size(views);
@@ -171,20 +170,16 @@ void GBufferPass::bindTargets(const RenderTargets& targets) {
   framebuffer_ = gpu::Framebuffer(context_.device(), framebuffer);
 }
 
-void GBufferPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                         const RenderTargets& targets) const {
-  // The background: sky radiance, no surface (depth far beyond any scene).
-  VkClearValue clears[4] = {};
-  const auto* u = static_cast<const gpu::FrameUniforms*>(frameUniforms.mapped());
-  clears[0].color = {{u->skyColor.r, u->skyColor.g, u->skyColor.b, 1.0f}};
-  clears[1].color = {{0.0f, 0.0f, 0.0f, 1.0f}};
-  clears[2].color = {{0.0f, 0.0f, 0.0f, gpu::kBackgroundDepth}};
-  clears[3].depthStencil = {1.0f, 0};
+void GBufferPass::recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
+                                   const RenderTargets& targets) const {
+  VkClearValue clears[2] = {};
+  clears[0].color.uint32[0] = kNoTriangle;
+  clears[1].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
   begin.renderPass = renderPass_;
   begin.framebuffer = framebuffer_;
   begin.renderArea = {{0, 0}, {targets.width, targets.height}};
-  begin.clearValueCount = 4;
+  begin.clearValueCount = 2;
   begin.pClearValues = clears;
   vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
   VkViewport viewport{0.0f, 0.0f, float(targets.width), float(targets.height), 0.0f, 1.0f};
@@ -195,12 +190,24 @@ void GBufferPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_);
   gpu::DescriptorWriter().uniformBuffer(gpu::kBindingFrame, frameUniforms)
       .push(context_, cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, gpu::kPassSet);
-  VkBuffer vertexBuffer = scene_.vertexBuffer().get();
+  VkBuffer corners = scene_.cornerBuffer().get();
   VkDeviceSize offset = 0;
-  vkCmdBindVertexBuffers(cmd, 0, 1, &vertexBuffer, &offset);
-  vkCmdBindIndexBuffer(cmd, scene_.indexBuffer().get(), 0, VK_INDEX_TYPE_UINT32);
-  vkCmdDrawIndexed(cmd, scene_.indexCount(), 1, 0, 0, 0);
+  vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
+  vkCmdDraw(cmd, scene_.cornerCount(), 1, 0, 0);
   vkCmdEndRenderPass(cmd);
+}
+
+void GBufferPass::recordResolve(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
+                                const RenderTargets& targets) const {
+  scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout);
+  gpu::dispatchCompute(context_, cmd, resolve_,
+                       gpu::DescriptorWriter()
+                           .uniformBuffer(gpu::kBindingFrame, frameUniforms)
+                           .storageImage(1, targets.visibility)
+                           .storageImage(2, targets.color)
+                           .storageImage(3, targets.specular)
+                           .storageImage(4, targets.normalDepth),
+                       targets.width, targets.height);
 }
 
 }  // namespace hdof

@@ -1,5 +1,6 @@
-// Pass 1, the G-buffer: the scene rasterised and shaded with the shared shading function into
-// colour, specular and normal/depth targets.
+// Pass 1, the G-buffer, in two stages: a raster visibility pass writes the triangle seen at each
+// pixel centre, then a compute resolve shades that point once per pixel with the shading code the
+// ray tracer uses, into colour, specular and normal/depth targets.
 #pragma once
 
 #include "gpu/pipeline.h"
@@ -14,8 +15,11 @@ class GBufferPass {
 
   // Makes the framebuffer for a new set of targets (call after they change).
   void bindTargets(const RenderTargets& targets);
-  void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-              const RenderTargets& targets) const;
+  // The raster visibility stage, then the compute resolve (timed separately by the caller).
+  void recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
+                        const RenderTargets& targets) const;
+  void recordResolve(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
+                     const RenderTargets& targets) const;
 
  private:
   const gpu::Context& context_;
@@ -25,6 +29,7 @@ class GBufferPass {
   gpu::DescriptorSetLayout passSetLayout_;
   gpu::PipelineLayout layout_;
   gpu::Pipeline pipeline_;
+  gpu::ComputePipeline resolve_;
 };
 
 }  // namespace hdof

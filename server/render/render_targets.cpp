@@ -19,9 +19,10 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
     : width(w), height(h) {
   constexpr VkImageUsageFlags kShaderUse = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
   constexpr VkImageUsageFlags kAttachment = kShaderUse | VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-  color = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kAttachment, "color");
-  specular = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kAttachment, "specular");
-  normalDepth = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kAttachment, "normal depth");
+  visibility = makeTarget(context, w, h, VK_FORMAT_R32_UINT, kAttachment, "visibility");
+  color = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "color");
+  specular = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "specular");
+  normalDepth = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "normal depth");
   accumulation = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "accumulation");
   display = makeTarget(context, w, h, VK_FORMAT_R8G8B8A8_UNORM,
                        kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "display");
@@ -36,7 +37,8 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
                          gpu::MemoryUse::Readback, "display readback");
 
   context.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const gpu::Image* image : {&color, &specular, &normalDepth, &accumulation, &display})
+    for (const gpu::Image* image :
+         {&visibility, &color, &specular, &normalDepth, &accumulation, &display})
       gpu::transitionImage(cmd, image->get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
                            VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);

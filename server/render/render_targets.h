@@ -10,6 +10,7 @@ struct RenderTargets {
   RenderTargets(const gpu::Context& context, uint32_t width, uint32_t height);
 
   uint32_t width, height;
+  gpu::Image visibility;  // r32ui: the triangle seen at each pixel centre (raster)
   gpu::Image color;  // rgba16f: sharp shaded colour (HDR)
   gpu::Image specular;  // rgba16f: its specular part
   gpu::Image normalDepth;  // rgba32f: world normal, linear view depth (metres)

@@ -56,7 +56,7 @@ uint32_t addTextured(Scene& scene, Texture texture, float roughness) {
   return addMaterial(scene, makeMaterial(glm::vec3(1.0f), roughness, 0.0f, index));
 }
 
-// Foreground objects at 1-2 m, a fence and poles at 3-4 m, textured crates, shiny spheres and
+// A railing at 0.8 m, foreground objects at 1-2 m, a fence and poles at 3-4 m, textured crates, shiny spheres and
 // columns around the focus plane at 4 m and behind it, a brick wall at 12 m, and small bright
 // lights at every depth for bokeh.
 Scene makeDofScene() {
@@ -110,6 +110,11 @@ Scene makeDofScene() {
   addCylinder(scene, {0.45f, 0.0f, -1.6f}, 0.012f, 0.74f, {darkMetal, 1.0f}, 12);
   addSphere(scene, {0.45f, 0.85f, -1.6f}, 0.12f, {chrome, 1.0f}, 32);
   addBox(scene, {0.75f, 0.3f, -2.3f}, glm::vec3(0.3f), -0.2f, {planks, 1.0f});
+
+  // Up close (0.75-0.8 m): a railing across the lower left, strongly blurred at any aperture:
+  // the partial-occlusion case, where the background must show through its blurred edges.
+  addBox(scene, {-0.55f, 0.95f, -0.8f}, {0.45f, 0.035f, 0.05f}, 0.0f, {planks, 1.0f});
+  addBox(scene, {-0.2f, 0.5f, -0.75f}, {0.04f, 0.5f, 0.04f}, 0.0f, {planks, 1.0f});
 
   // Small bright lights for bokeh: a string along the wall, some in the middle, two up close.
   uint32_t warmLight = addEmitter(scene, glm::vec3(40.0f, 30.0f, 18.0f));

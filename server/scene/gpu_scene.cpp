@@ -82,12 +82,14 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
     throw SceneError("scene '" + scene.name + "' has " + std::to_string(scene.textures.size()) +
                      " textures; at most " + std::to_string(gpu::kMaxTextureLayers) +
                      " are supported");
-  vertices_ = gpu::createBufferWithData(
-      context, std::span(scene.vertices),
-      kStorage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "scene vertices");
-  indices_ = gpu::createBufferWithData(context, std::span(scene.indices),
-                                       kStorage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
-                                       "scene indices");
+  vertices_ = gpu::createBufferWithData(context, std::span(scene.vertices), kStorage,
+                                        "scene vertices");
+  indices_ = gpu::createBufferWithData(context, std::span(scene.indices), kStorage, "scene indices");
+  std::vector<glm::vec3> corners;
+  corners.reserve(scene.indices.size());
+  for (uint32_t index : scene.indices) corners.push_back(scene.vertices[index].position);
+  corners_ = gpu::createBufferWithData(context, std::span<const glm::vec3>(corners),
+                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
   materials_ = gpu::createBufferWithData(context, std::span(scene.materials), kStorage,
                                          "scene materials");
   lights_ = gpu::createBufferWithData(context, std::span(scene.lights), kStorage, "scene lights");

@@ -16,13 +16,13 @@ class GpuScene {
   VkDescriptorSet descriptorSet() const { return descriptorSet_; }
   // Binds descriptor set 0 for a pipeline whose layout starts with setLayout().
   void bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint, VkPipelineLayout layout) const;
-  const gpu::Buffer& vertexBuffer() const { return vertices_; }
-  const gpu::Buffer& indexBuffer() const { return indices_; }
-  uint32_t indexCount() const { return indexCount_; }
+  // Every triangle's corner positions in order (three vec3 per triangle), for the raster.
+  const gpu::Buffer& cornerBuffer() const { return corners_; }
+  uint32_t cornerCount() const { return indexCount_; }
   uint32_t lightCount() const { return lightCount_; }
 
  private:
-  gpu::Buffer vertices_, indices_, materials_, lights_, bvhNodes_, bvhTriangles_;
+  gpu::Buffer vertices_, indices_, corners_, materials_, lights_, bvhNodes_, bvhTriangles_;
   gpu::Image textures_;  // a 2D array, one layer per scene texture
   gpu::Sampler sampler_;
   gpu::DescriptorSetLayout setLayout_;

@@ -1,7 +1,21 @@
 // Closest-hit traversal of the scene BVH (binned SAH, two children stored side by side), with a
-// per-thread stack and an overflow guard. Needs lib/scene.glsl.
+// per-thread stack in shared memory and an overflow guard. Needs lib/scene.glsl and a workgroup
+// of kTraceGroupSize threads.
 #ifndef HDOF_LIB_BVH_TRAVERSE_GLSL
 #define HDOF_LIB_BVH_TRAVERSE_GLSL
+
+// Nodes and triangles read as aligned vec4 rows (two per node, three per triangle): one 16-byte
+// load each, whatever the compiler makes of the scalar-layout structs.
+layout(set = 0, binding = kBindingBvhNodes, std430) readonly buffer BvhNodeRows {
+  vec4 bvhNodeRows[];
+};
+layout(set = 0, binding = kBindingBvhTriangles, std430) readonly buffer BvhTriangleRows {
+  vec4 bvhTriangleRows[];
+};
+
+const uint kTraceGroupSize = 64;
+// Stack entries interleaved by thread, so that neighbouring threads touch neighbouring words.
+
 
 struct RayHit {
   float t;
@@ -10,32 +24,35 @@ struct RayHit {
 };
 
 // Entry distance of the ray into the box, or a huge value when it misses (or enters beyond tMax).
+// The exit distance is widened a little so that rounding cannot lose a triangle lying in a face.
 float intersectBox(vec3 origin, vec3 inverseDirection, vec3 boxMin, vec3 boxMax, float tMax) {
   vec3 t0 = (boxMin - origin) * inverseDirection;
   vec3 t1 = (boxMax - origin) * inverseDirection;
   vec3 tNear = min(t0, t1), tFar = max(t0, t1);
   float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
-  float leave = min(min(tFar.x, tFar.y), min(tFar.z, tMax));
-  return enter <= leave ? enter : 3.4e38;
+  float leave = min(min(tFar.x, tFar.y), tFar.z) * 1.0000004;
+  return enter <= min(leave, tMax) ? enter : 3.4e38;
 }
 
 // Möller–Trumbore; updates hit when the triangle is closer than hit.t.
 void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit hit) {
-  BvhTriangle tri = bvhTriangles[leafIndex];
-  vec3 p = cross(direction, tri.edge2);
-  float det = dot(tri.edge1, p);
+  vec4 row0 = bvhTriangleRows[leafIndex * 3u];
+  vec3 edge1 = bvhTriangleRows[leafIndex * 3u + 1u].xyz;
+  vec3 edge2 = bvhTriangleRows[leafIndex * 3u + 2u].xyz;
+  vec3 p = cross(direction, edge2);
+  float det = dot(edge1, p);
   if (abs(det) < 1e-12) return;
   float inverseDet = 1.0 / det;
-  vec3 toOrigin = origin - tri.v0;
+  vec3 toOrigin = origin - row0.xyz;
   float u = dot(toOrigin, p) * inverseDet;
   if (u < 0.0 || u > 1.0) return;
-  vec3 q = cross(toOrigin, tri.edge1);
+  vec3 q = cross(toOrigin, edge1);
   float v = dot(direction, q) * inverseDet;
   if (v < 0.0 || u + v > 1.0) return;
-  float t = dot(tri.edge2, q) * inverseDet;
+  float t = dot(edge2, q) * inverseDet;
   if (t > 0.0 && t < hit.t) {
     hit.t = t;
-    hit.triangle = tri.index;
+    hit.triangle = floatBitsToUint(row0.w);
     hit.barycentrics = vec2(u, v);
   }
 }
@@ -49,35 +66,37 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
   overflowed = false;
   vec3 inverseDirection = 1.0 / max(abs(direction), vec3(1e-20)) * sign(direction);
   inverseDirection = mix(inverseDirection, vec3(1e20), equal(direction, vec3(0.0)));
-  uint stack[kBvhStackSize];
+  uint traversalStack[kBvhStackSize];
   uint stackSize = 0;
   uint node = 0;
-  if (intersectBox(origin, inverseDirection, bvhNodes[0].boundsMin, bvhNodes[0].boundsMax, tMax) >
-      1e38)
+  if (intersectBox(origin, inverseDirection, bvhNodeRows[0].xyz, bvhNodeRows[1].xyz, tMax) > 1e38)
     return false;
   while (true) {
-    BvhNode current = bvhNodes[node];
-    if (current.triangleCount > 0) {
-      for (uint i = 0; i < current.triangleCount; ++i)
-        intersectTriangle(origin, direction, current.leftOrFirst + i, hit);
+    vec4 lo = bvhNodeRows[node * 2u];
+    vec4 hi = bvhNodeRows[node * 2u + 1u];
+    uint leftOrFirst = floatBitsToUint(lo.w);
+    uint triangleCount = floatBitsToUint(hi.w);
+    if (triangleCount > 0u) {
+      for (uint i = 0u; i < triangleCount; ++i)
+        intersectTriangle(origin, direction, leftOrFirst + i, hit);
     } else {
-      uint left = current.leftOrFirst;
-      BvhNode a = bvhNodes[left];
-      BvhNode b = bvhNodes[left + 1];
-      float tA = intersectBox(origin, inverseDirection, a.boundsMin, a.boundsMax, hit.t);
-      float tB = intersectBox(origin, inverseDirection, b.boundsMin, b.boundsMax, hit.t);
-      uint near = left, far = left + 1;
+      uint left = leftOrFirst;
+      float tA = intersectBox(origin, inverseDirection, bvhNodeRows[left * 2u].xyz,
+                              bvhNodeRows[left * 2u + 1u].xyz, hit.t);
+      float tB = intersectBox(origin, inverseDirection, bvhNodeRows[left * 2u + 2u].xyz,
+                              bvhNodeRows[left * 2u + 3u].xyz, hit.t);
+      uint near = left, far = left + 1u;
       if (tB < tA) {
         float swapT = tA;
         tA = tB;
         tB = swapT;
-        near = left + 1;
+        near = left + 1u;
         far = left;
       }
       if (tA < 1e38) {
         if (tB < 1e38) {
           if (stackSize < kBvhStackSize)
-            stack[stackSize++] = far;
+            traversalStack[stackSize++] = far;
           else
             overflowed = true;
         }
@@ -85,8 +104,8 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
         continue;
       }
     }
-    if (stackSize == 0) break;
-    node = stack[--stackSize];
+    if (stackSize == 0u) break;
+    node = traversalStack[--stackSize];
   }
   return hit.triangle != 0xffffffffu;
 }

@@ -3,21 +3,6 @@
 #ifndef HDOF_LIB_RAY_SHADING_GLSL
 #define HDOF_LIB_RAY_SHADING_GLSL
 
-SurfacePoint surfaceAtHit(RayHit hit) {
-  uint first = hit.triangle * 3u;
-  Vertex a = vertices[indices[first]];
-  Vertex b = vertices[indices[first + 1u]];
-  Vertex c = vertices[indices[first + 2u]];
-  vec3 w = vec3(1.0 - hit.barycentrics.x - hit.barycentrics.y, hit.barycentrics);
-  SurfacePoint s;
-  s.position = a.position * w.x + b.position * w.y + c.position * w.z;
-  s.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
-  s.uv = a.uv * w.x + b.uv * w.y + c.uv * w.z;
-  s.uvPerMeter = a.uvPerMeter * w.x + b.uvPerMeter * w.y + c.uvPerMeter * w.z;
-  s.material = a.material;
-  return s;
-}
-
 struct RaySample {
   vec3 radiance;
   vec3 specular;
@@ -37,7 +22,7 @@ RaySample traceCameraRay(vec3 origin, vec3 direction) {
     result.position = origin + direction * 1e5;
     return result;
   }
-  SurfacePoint s = surfaceAtHit(hit);
+  SurfacePoint s = surfaceOfTriangle(hit.triangle, hit.barycentrics);
   float footprint = length(s.position - frame.eye.xyz) * pixelAngle();
   result.radiance = shadeSurface(s, -direction, footprint, result.specular);
   result.distance = hit.t;

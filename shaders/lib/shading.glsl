@@ -15,6 +15,22 @@ struct SurfacePoint {
   uint material;
 };
 
+// The surface point at barycentrics (weights of vertices 1 and 2) of an index-buffer triangle.
+SurfacePoint surfaceOfTriangle(uint triangle, vec2 barycentrics) {
+  uint first = triangle * 3u;
+  Vertex a = vertices[indices[first]];
+  Vertex b = vertices[indices[first + 1u]];
+  Vertex c = vertices[indices[first + 2u]];
+  vec3 w = vec3(1.0 - barycentrics.x - barycentrics.y, barycentrics);
+  SurfacePoint s;
+  s.position = a.position * w.x + b.position * w.y + c.position * w.z;
+  s.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
+  s.uv = a.uv * w.x + b.uv * w.y + c.uv * w.z;
+  s.uvPerMeter = a.uvPerMeter * w.x + b.uvPerMeter * w.y + c.uvPerMeter * w.z;
+  s.material = a.material;
+  return s;
+}
+
 // Mip level from the pixel's world-space footprint at the point: the same formula in both
 // paths, so that raster and ray-traced pixels sample the same texels.
 float textureLodAt(SurfacePoint s, float footprint, float cosView) {

@@ -1,0 +1,52 @@
+// G-buffer, resolve stage: for the triangle the raster found at each pixel, the point the pixel
+// centre's ray hits, shaded with the shared shading function: sharp colour, its specular part,
+// normal and linear depth. The same ray through the same triangle gives the ray tracer's point.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/scene.glsl"
+#include "lib/frame.glsl"
+#include "lib/shading.glsl"
+#include "lib/camera_rays.glsl"
+
+layout(set = 1, binding = 1, r32ui) uniform readonly uimage2D visibility;
+layout(set = 1, binding = 2) uniform writeonly image2D outColor;  // rgba16f
+layout(set = 1, binding = 3) uniform writeonly image2D outSpecular;  // rgba16f
+layout(set = 1, binding = 4) uniform writeonly image2D outNormalDepth;  // rgba32f
+
+const uint kNoTriangle = 0xffffffffu;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  uint triangle = imageLoad(visibility, pixel).r;
+  if (triangle == kNoTriangle) {
+    imageStore(outColor, pixel, vec4(frame.skyColor.rgb, 1.0));
+    imageStore(outSpecular, pixel, vec4(0.0));
+    imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
+    return;
+  }
+  // Barycentrics of the pixel centre's ray on the plane of the triangle (Möller–Trumbore
+  // without the inside test: the raster already decided coverage).
+  uint first = triangle * 3u;
+  vec3 a = vertices[indices[first]].position;
+  vec3 edge1 = vertices[indices[first + 1u]].position - a;
+  vec3 edge2 = vertices[indices[first + 2u]].position - a;
+  vec3 direction = pinholeDirection(vec2(pixel) + 0.5);
+  vec3 p = cross(direction, edge2);
+  float det = dot(edge1, p);
+  float inverseDet = abs(det) > 1e-20 ? 1.0 / det : 0.0;
+  vec3 toOrigin = frame.eye.xyz - a;
+  vec2 barycentrics =
+      vec2(dot(toOrigin, p), dot(direction, cross(toOrigin, edge1))) * inverseDet;
+  SurfacePoint s = surfaceOfTriangle(triangle, barycentrics);
+  vec3 toEye = frame.eye.xyz - s.position;
+  float distance = length(toEye);
+  vec3 specular;
+  vec3 color = shadeSurface(s, toEye / distance, distance * pixelAngle(), specular);
+  imageStore(outColor, pixel, vec4(color, 1.0));
+  imageStore(outSpecular, pixel, vec4(specular, 1.0));
+  float linearDepth = dot(s.position - frame.eye.xyz, frame.forward.xyz);
+  imageStore(outNormalDepth, pixel, vec4(normalize(s.normal), linearDepth));
+}
