@@ -8,10 +8,7 @@ layout(set = 0, binding = kBindingVertices, scalar) readonly buffer Vertices { V
 layout(set = 0, binding = kBindingIndices, scalar) readonly buffer Indices { uint indices[]; };
 layout(set = 0, binding = kBindingMaterials, scalar) readonly buffer Materials { Material materials[]; };
 layout(set = 0, binding = kBindingLights, scalar) readonly buffer Lights { Light lights[]; };
-layout(set = 0, binding = kBindingBvhNodes, scalar) readonly buffer BvhNodes { BvhNode bvhNodes[]; };
-layout(set = 0, binding = kBindingBvhTriangles, scalar) readonly buffer BvhTriangles {
-  BvhTriangle bvhTriangles[];
-};
+// The BVH bindings are declared by lib/bvh_traverse.glsl, which reads them as aligned rows.
 layout(set = 0, binding = kBindingTextures) uniform sampler2DArray textures;
 
 #endif
