@@ -16,8 +16,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 1, binding = 1, rgba32f) uniform image2D accumulation;
 
 layout(push_constant) uniform Push {
-  uint firstSample;  // 0 starts a new accumulation
+  uint firstSample;  // number of the first ray of each pixel's sequence traced here
   uint sampleCount;
+  uint accumulate;  // 0: start a new sum
 } push;
 
 void main() {
@@ -33,6 +34,6 @@ void main() {
     vec3 direction = thinLensRay(position, concentricDisc(u.zw), origin);
     sum += traceCameraRay(origin, direction).radiance;
   }
-  vec4 previous = push.firstSample == 0u ? vec4(0.0) : imageLoad(accumulation, ivec2(pixel));
+  vec4 previous = push.accumulate == 0u ? vec4(0.0) : imageLoad(accumulation, ivec2(pixel));
   imageStore(accumulation, ivec2(pixel), previous + vec4(sum, float(push.sampleCount)));
 }

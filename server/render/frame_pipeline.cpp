@@ -10,7 +10,19 @@ namespace {
 constexpr struct {
   RenderMode mode;
   const char* name;
-} kModes[] = {{RenderMode::Pinhole, "pinhole"}, {RenderMode::Reference, "reference"}};
+} kModes[] = {{RenderMode::Pinhole, "pinhole"},
+              {RenderMode::RayTrace, "raytrace"},
+              {RenderMode::Reference, "reference"}};
+
+bool sameView(const Camera& a, const Camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov;
+}
+
+bool sameLens(const Lens& a, const Lens& b) {
+  return a.focalLengthMm == b.focalLengthMm && a.fNumber == b.fNumber &&
+         a.focusDistance == b.focusDistance && a.blades == b.blades &&
+         a.bladeRotation == b.bladeRotation;
+}
 
 void computeToCompute(VkCommandBuffer cmd) {
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
@@ -72,6 +84,8 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   targets_.reset();
   targets_ = std::make_unique<RenderTargets>(context_, width, height);
   gbuffer_.bindTargets(*targets_);
+  accumulation_.valid = false;
+  depthReadback_ = gpu::Buffer();
 }
 
 FrameStats FramePipeline::render(const FrameRequest& request) {
@@ -102,14 +116,26 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       gbuffer_.recordResolve(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
       break;
-    case RenderMode::Reference:
-      timer_.begin(cmd, "reference");
-      reference_.record(cmd, frameUniforms_, *targets_, request.firstSample,
-                        request.settings.samplesPerPixel);
+    case RenderMode::RayTrace:
+    case RenderMode::Reference: {
+      uint32_t firstSample = request.firstSample;
+      bool accumulate = request.accumulate;
+      if (request.mode == RenderMode::RayTrace) {
+        bool keep = accumulation_.valid && sameView(accumulation_.camera, request.camera) &&
+                    sameLens(accumulation_.lens, request.lens);
+        firstSample = keep ? accumulation_.samples : 0;
+        accumulate = keep;
+      }
+      timer_.begin(cmd, modeName(request.mode));
+      reference_.record(cmd, frameUniforms_, *targets_, firstSample,
+                        request.settings.samplesPerPixel, accumulate);
       timer_.end(cmd);
       computeToCompute(cmd);
       radiance = &targets_->accumulation;
+      accumulation_ = {true, request.camera, request.lens,
+                       (accumulate ? accumulation_.samples : 0) + request.settings.samplesPerPixel};
       break;
+    }
   }
   timer_.begin(cmd, "tonemap");
   tonemap_.record(cmd, frameUniforms_, *radiance, *targets_);
@@ -126,24 +152,51 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.passMs = timer_.results();
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
+  if (request.mode != RenderMode::Pinhole) stats.accumulatedSamples = accumulation_.samples;
   return stats;
 }
 
 FrameStats FramePipeline::renderReference(FrameRequest request, uint32_t raysPerPixel,
                                           const std::function<void(uint32_t)>& onProgress) {
   request.mode = RenderMode::Reference;
+  uint32_t base = request.firstSample;
+  bool accumulate = request.accumulate;
   uint64_t pixels = uint64_t(request.settings.width) * request.settings.height;
   uint32_t batch = static_cast<uint32_t>(std::clamp<uint64_t>(1000000 / pixels, 1, 64));
   FrameStats total;
   for (uint32_t done = 0; done < raysPerPixel; done += request.settings.samplesPerPixel) {
-    request.firstSample = done;
+    request.firstSample = base + done;
+    request.accumulate = accumulate || done > 0;
     request.settings.samplesPerPixel = std::min(batch, raysPerPixel - done);
     FrameStats stats = render(request);
     total.gpuMs += stats.gpuMs;
     total.wallMs += stats.wallMs;
     if (onProgress) onProgress(done + request.settings.samplesPerPixel);
+    total.accumulatedSamples = stats.accumulatedSamples;
   }
   return total;
+}
+
+std::vector<float> FramePipeline::linearDepth() {
+  VkDeviceSize bytes = VkDeviceSize(targets_->width) * targets_->height * 4 * sizeof(float);
+  if (!depthReadback_.get())
+    depthReadback_ = gpu::Buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 gpu::MemoryUse::Readback, "depth readback");
+  context_.submitAndWait([&](VkCommandBuffer cmd) {
+    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {targets_->width, targets_->height, 1};
+    vkCmdCopyImageToBuffer(cmd, targets_->normalDepth.get(), VK_IMAGE_LAYOUT_GENERAL,
+                           depthReadback_.get(), 1, &region);
+    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  });
+  const auto* texels = static_cast<const glm::vec4*>(depthReadback_.mapped());
+  std::vector<float> depth(size_t(targets_->width) * targets_->height);
+  for (size_t i = 0; i < depth.size(); ++i) depth[i] = texels[i].w;
+  return depth;
 }
 
 ImageRgba8 FramePipeline::image() const {

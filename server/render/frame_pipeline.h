@@ -18,24 +18,29 @@
 
 namespace hdof {
 
-enum class RenderMode { Pinhole, Reference };
+enum class RenderMode { Pinhole, RayTrace, Reference };
 
 const char* modeName(RenderMode mode);
 std::optional<RenderMode> parseMode(const std::string& name);
-std::string modeNames();  // "pinhole|reference"
+std::string modeNames();  // "pinhole|raytrace|reference"
 
 struct FrameRequest {
   RenderMode mode = RenderMode::Pinhole;
   Camera camera;
   Lens lens;
-  FrameSettings settings;  // settings.samplesPerPixel: rays per pixel this frame (reference)
-  uint32_t firstSample = 0;  // reference: 0 starts a new accumulation
+  FrameSettings settings;  // settings.samplesPerPixel: rays per pixel this frame (ray tracing)
+  // reference: the rays traced start at number firstSample of each pixel's sample sequence, and
+  // are added to the previous frame's (accumulate) or start a new sum. raytrace ignores both: it
+  // accumulates while the camera and lens stay the same and starts over when they change.
+  uint32_t firstSample = 0;
+  bool accumulate = false;
 };
 
 struct FrameStats {
   std::vector<std::pair<std::string, double>> passMs;  // GPU time per pass
   double gpuMs = 0.0;  // sum of the passes
   double wallMs = 0.0;  // submit to finish, as the CPU saw it
+  uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far
   double passMsOf(const std::string& pass) const;
 };
 
@@ -58,6 +63,9 @@ class FramePipeline {
   uint32_t height() const { return targets_->height; }
   // The last rendered frame, tonemapped.
   ImageRgba8 image() const;
+  // Linear view depth (metres, kBackgroundDepth where nothing is) of the last frame that ran
+  // the G-buffer, row-major.
+  std::vector<float> linearDepth();
 
  private:
   const gpu::Context& context_;
@@ -71,6 +79,15 @@ class FramePipeline {
   gpu::GpuTimer timer_;
   VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
   gpu::Fence fence_;
+  gpu::Buffer depthReadback_;
+
+  // What the ray-traced accumulation holds, so raytrace knows when to start over.
+  struct Accumulation {
+    bool valid = false;
+    Camera camera;
+    Lens lens;
+    uint32_t samples = 0;
+  } accumulation_;
 };
 
 }  // namespace hdof

@@ -7,6 +7,7 @@ namespace hdof {
 struct ReferencePush {
   uint32_t firstSample;
   uint32_t sampleCount;
+  uint32_t accumulate;
 };
 
 ReferencePass::ReferencePass(const gpu::Context& context, const GpuScene& scene)
@@ -19,9 +20,9 @@ ReferencePass::ReferencePass(const gpu::Context& context, const GpuScene& scene)
 
 void ReferencePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
                            const RenderTargets& targets, uint32_t firstSample,
-                           uint32_t sampleCount) const {
+                           uint32_t sampleCount, bool accumulate) const {
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout);
-  ReferencePush push{firstSample, sampleCount};
+  ReferencePush push{firstSample, sampleCount, accumulate ? 1u : 0u};
   gpu::dispatchCompute(context_, cmd, pipeline_,
                        gpu::DescriptorWriter()
                            .uniformBuffer(gpu::kBindingFrame, frameUniforms)

@@ -1,5 +1,5 @@
 // The thin-lens ray tracer over the whole frame, accumulating progressively: the `reference`
-// mode, and the ground truth for quality measurements.
+// mode (the ground truth for quality measurements) and the `raytrace` mode.
 #pragma once
 
 #include "gpu/pipeline.h"
@@ -11,10 +11,10 @@ namespace hdof {
 class ReferencePass {
  public:
   ReferencePass(const gpu::Context& context, const GpuScene& scene);
-  // Adds sampleCount rays per pixel (sample numbers firstSample...) to targets.accumulation;
-  // firstSample 0 starts over.
+  // Traces sampleCount rays per pixel (numbers firstSample... of each pixel's sample sequence)
+  // and adds them to targets.accumulation, or starts it over when accumulate is false.
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const RenderTargets& targets,
-              uint32_t firstSample, uint32_t sampleCount) const;
+              uint32_t firstSample, uint32_t sampleCount, bool accumulate) const;
 
  private:
   const gpu::Context& context_;

@@ -22,7 +22,8 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
   visibility = makeTarget(context, w, h, VK_FORMAT_R32_UINT, kAttachment, "visibility");
   color = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "color");
   specular = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "specular");
-  normalDepth = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "normal depth");
+  normalDepth = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT,
+                           kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "normal depth");
   accumulation = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "accumulation");
   display = makeTarget(context, w, h, VK_FORMAT_R8G8B8A8_UNORM,
                        kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "display");
