@@ -19,12 +19,13 @@ layout(push_constant) uniform Push {
   uint firstSample;  // number of the first ray of each pixel's sequence traced here
   uint sampleCount;
   uint accumulate;  // 0: start a new sum
+  uint sequence;  // which family of per-pixel sample sequences (modes never share rays)
 } push;
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
   if (any(greaterThanEqual(pixel, frame.image.xy))) return;
-  vec4 rotation = pixelRotation4(pixel, frame.image.z);
+  vec4 rotation = pixelRotation4(pixel, push.sequence);
   bool jitter = frame.options.y != 0u;
   vec3 sum = vec3(0.0);
   for (uint i = 0u; i < push.sampleCount; ++i) {

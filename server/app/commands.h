@@ -7,10 +7,9 @@
 
 namespace hdof {
 
-struct GlobalOptions;
-
 int runRender(std::span<const std::string> args);
 int runCompare(std::span<const std::string> args);
 int runBench(std::span<const std::string> args);
+int runQuality(std::span<const std::string> args);
 
 }  // namespace hdof

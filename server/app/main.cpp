@@ -24,6 +24,7 @@ const Command kCommands[] = {
      hdof::runRender},
     {"compare", "print PSNR and SSIM between two images, optionally inside a mask",
      hdof::runCompare},
+    {"quality", "measure each mode against a converged ray-traced reference", hdof::runQuality},
     {"bench", "measure G-buffer time, ray traversal speed and BVH build time", hdof::runBench},
 };
 

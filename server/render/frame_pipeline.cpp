@@ -121,18 +121,22 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       uint32_t firstSample = request.firstSample;
       bool accumulate = request.accumulate;
       if (request.mode == RenderMode::RayTrace) {
-        bool keep = accumulation_.valid && sameView(accumulation_.camera, request.camera) &&
+        bool keep = accumulation_.valid && accumulation_.mode == RenderMode::RayTrace &&
+                    accumulation_.raysPerFrame == request.settings.samplesPerPixel &&
+                    sameView(accumulation_.camera, request.camera) &&
                     sameLens(accumulation_.lens, request.lens);
         firstSample = keep ? accumulation_.samples : 0;
         accumulate = keep;
       }
       timer_.begin(cmd, modeName(request.mode));
-      reference_.record(cmd, frameUniforms_, *targets_, firstSample,
-                        request.settings.samplesPerPixel, accumulate);
+      uint32_t sequence = request.mode == RenderMode::Reference ? 0 : 1;
+      reference_.record(cmd, frameUniforms_, *targets_,
+                        {firstSample, request.settings.samplesPerPixel, accumulate, sequence});
       timer_.end(cmd);
       computeToCompute(cmd);
       radiance = &targets_->accumulation;
-      accumulation_ = {true, request.camera, request.lens,
+      accumulation_ = {true, request.mode, request.camera, request.lens,
+                       request.settings.samplesPerPixel,
                        (accumulate ? accumulation_.samples : 0) + request.settings.samplesPerPixel};
       break;
     }

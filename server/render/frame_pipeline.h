@@ -59,6 +59,8 @@ class FramePipeline {
   FrameStats renderReference(FrameRequest request, uint32_t raysPerPixel,
                              const std::function<void(uint32_t)>& onProgress = {});
   void resize(uint32_t width, uint32_t height);
+  // Forgets the temporal history: the next raytrace frame starts a new accumulation.
+  void resetHistory() { accumulation_.valid = false; }
   uint32_t width() const { return targets_->width; }
   uint32_t height() const { return targets_->height; }
   // The last rendered frame, tonemapped.
@@ -84,8 +86,10 @@ class FramePipeline {
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {
     bool valid = false;
+    RenderMode mode = RenderMode::Pinhole;
     Camera camera;
     Lens lens;
+    uint32_t raysPerFrame = 0;
     uint32_t samples = 0;
   } accumulation_;
 };

@@ -8,6 +8,7 @@ struct ReferencePush {
   uint32_t firstSample;
   uint32_t sampleCount;
   uint32_t accumulate;
+  uint32_t sequence;
 };
 
 ReferencePass::ReferencePass(const gpu::Context& context, const GpuScene& scene)
@@ -19,10 +20,9 @@ ReferencePass::ReferencePass(const gpu::Context& context, const GpuScene& scene)
           sizeof(ReferencePush))) {}
 
 void ReferencePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                           const RenderTargets& targets, uint32_t firstSample,
-                           uint32_t sampleCount, bool accumulate) const {
+                           const RenderTargets& targets, const Rays& rays) const {
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout);
-  ReferencePush push{firstSample, sampleCount, accumulate ? 1u : 0u};
+  ReferencePush push{rays.firstSample, rays.count, rays.accumulate ? 1u : 0u, rays.sequence};
   gpu::dispatchCompute(context_, cmd, pipeline_,
                        gpu::DescriptorWriter()
                            .uniformBuffer(gpu::kBindingFrame, frameUniforms)

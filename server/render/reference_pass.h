@@ -11,10 +11,14 @@ namespace hdof {
 class ReferencePass {
  public:
   ReferencePass(const gpu::Context& context, const GpuScene& scene);
-  // Traces sampleCount rays per pixel (numbers firstSample... of each pixel's sample sequence)
-  // and adds them to targets.accumulation, or starts it over when accumulate is false.
+  struct Rays {
+    uint32_t firstSample;  // number of the first ray in each pixel's sample sequence
+    uint32_t count;  // rays per pixel to trace
+    bool accumulate;  // add to targets.accumulation, or start it over
+    uint32_t sequence;  // which family of sample sequences: 0 for the reference, others for modes
+  };
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const RenderTargets& targets,
-              uint32_t firstSample, uint32_t sampleCount, bool accumulate) const;
+              const Rays& rays) const;
 
  private:
   const gpu::Context& context_;

@@ -1,0 +1,35 @@
+// A converged thin-lens reference: rays per pixel double until the image stops changing.
+#pragma once
+
+#include "render/frame_pipeline.h"
+
+#include <functional>
+#include <string>
+
+namespace hdof {
+
+struct ReferenceOptions {
+  uint32_t fixedRays = 0;  // > 0: exactly this many rays per pixel, no convergence test
+  uint32_t startRays = 16;
+  uint32_t maxRays = 1024;
+  double targetDb = 42.0;  // PSNR between the image at N and at N/2 rays that counts as converged
+};
+
+struct ReferenceImage {
+  ImageRgba8 image;
+  uint32_t rays = 0;
+  double lastStepDb = 0.0;  // PSNR between the images at rays and rays/2 (0 when fixed)
+  bool converged = false;
+  double gpuMs = 0.0;
+  // One sentence on how convergence was decided, for the user.
+  std::string verdict() const;
+};
+
+// Doubling N, the difference between the N and N/2 images is half the N/2 image's noise, so its
+// PSNR estimates how far the N-ray image is from the limit. Reuses the N/2 rays (the sample
+// sequence continues), so the total cost is that of the final N.
+ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest request,
+                                        const ReferenceOptions& options,
+                                        const std::function<void(uint32_t)>& onProgress = {});
+
+}  // namespace hdof
