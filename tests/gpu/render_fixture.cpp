@@ -21,10 +21,11 @@ SceneOnGpu& testScene(const std::string& spec) {
   return *entry;
 }
 
-ImageRgba8 renderImage(const RenderSpec& spec) {
-  SceneOnGpu& scene = testScene(spec.scene);
+namespace {
+
+FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   const SceneCamera* sceneCamera =
-      spec.camera.empty() ? &scene.scene.cameras.front() : scene.scene.findCamera(spec.camera);
+      spec.camera.empty() ? &scene.cameras.front() : scene.findCamera(spec.camera);
   EXPECT_NE(sceneCamera, nullptr) << spec.camera;
   FrameRequest request;
   request.mode = spec.mode;
@@ -35,12 +36,35 @@ ImageRgba8 renderImage(const RenderSpec& spec) {
   request.settings.width = spec.width;
   request.settings.height = spec.height;
   request.settings.pixelJitter = spec.pixelJitter;
+  request.settings.samplesPerPixel = spec.raysPerPixel;
+  return request;
+}
+
+}  // namespace
+
+ImageRgba8 renderImage(const RenderSpec& spec) {
+  SceneOnGpu& scene = testScene(spec.scene);
+  FrameRequest request = requestFor(spec, scene.scene);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-  if (spec.mode == RenderMode::Reference)
+  if (spec.mode == RenderMode::Reference) {
     pipeline.renderReference(request, spec.raysPerPixel);
-  else
-    pipeline.render(request);
+  } else {
+    for (uint32_t frame = 0; frame < spec.frames; ++frame) {
+      request.settings.frameIndex = frame;
+      pipeline.render(request);
+    }
+  }
   return pipeline.image();
+}
+
+std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut) {
+  SceneOnGpu& scene = testScene(spec.scene);
+  FrameRequest request = requestFor(spec, scene.scene);
+  request.mode = RenderMode::Pinhole;
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+  pipeline.render(request);
+  if (requestOut) *requestOut = request;
+  return pipeline.linearDepth();
 }
 
 double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b) {

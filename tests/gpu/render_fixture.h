@@ -30,12 +30,15 @@ struct RenderSpec {
   std::string camera;  // empty: the first
   RenderMode mode = RenderMode::Pinhole;
   uint32_t width = 160, height = 90;
-  uint32_t raysPerPixel = 1;  // reference
+  uint32_t raysPerPixel = 1;  // reference: in total; raytrace: per frame
+  uint32_t frames = 1;  // raytrace: frames of a still camera
   bool pixelJitter = true;
-  Lens lens;  // focusDistance 0: the camera's suggestion, else 5 m
+  Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
 };
 
 ImageRgba8 renderImage(const RenderSpec& spec);
+// The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
+std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
 
 // Mean squared error over RGB, in 8-bit units squared.
 double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b);
