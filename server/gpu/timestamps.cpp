@@ -7,7 +7,7 @@ GpuTimer::GpuTimer(const Context& context, uint32_t maxPasses)
   if (!enabled_) return;
   VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
   info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-  info.queryCount = maxPasses * 2 + 1;  // the last one is scratch, see begin()
+  info.queryCount = maxPasses * 3;  // begin and end per pass, then one scratch each (begin())
   VkQueryPool pool = VK_NULL_HANDLE;
   VK_CHECK(vkCreateQueryPool(context.device(), &info, nullptr, &pool));
   pool_ = QueryPool(context.device(), pool);
@@ -15,7 +15,7 @@ GpuTimer::GpuTimer(const Context& context, uint32_t maxPasses)
 
 void GpuTimer::reset(VkCommandBuffer cmd) {
   names_.clear();
-  if (enabled_) vkCmdResetQueryPool(cmd, pool_, 0, capacity_ * 2 + 1);
+  if (enabled_) vkCmdResetQueryPool(cmd, pool_, 0, capacity_ * 3);
 }
 
 void GpuTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
@@ -27,7 +27,8 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
   // Lavapipe defers a timestamp while a framebuffer is bound until its next flush, which a
   // synchronous compute dispatch does not cause: the begin stamp would land after the pass. A
   // second (scratch) timestamp flushes it first; elsewhere it is one more cheap timestamp.
-  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, pool_, capacity_ * 2);
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, pool_,
+                      capacity_ * 2 + static_cast<uint32_t>(names_.size() - 1));
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
