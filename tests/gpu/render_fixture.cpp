@@ -10,6 +10,7 @@ gpu::Context& testContext() {
 }
 
 SceneOnGpu& testScene(const std::string& spec) {
+  testContext();  // constructed before the scenes, so destroyed after them
   static std::map<std::string, std::unique_ptr<SceneOnGpu>> scenes;
   auto& entry = scenes[spec];
   if (!entry) {
