@@ -75,9 +75,11 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
 
 }  // namespace
 
-GBufferPass::GBufferPass(const gpu::Context& context, const GpuScene& scene)
+GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene,
+                         const GpuScene& scene)
     : context_(context),
       scene_(scene),
+      runs_(buildTriangleRuns(cpuScene)),
       resolve_(gpu::createComputePipeline(
           context, "gbuffer_resolve.comp", scene.setLayout(),
           {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
@@ -193,7 +195,9 @@ void GBufferPass::recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frame
   VkBuffer corners = scene_.cornerBuffer().get();
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
-  vkCmdDraw(cmd, scene_.cornerCount(), 1, 0, 0);
+  const auto* uniforms = static_cast<const gpu::FrameUniforms*>(frameUniforms.mapped());
+  for (const TriangleRange& range : visibleTriangles(runs_, uniforms->viewProj))
+    vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
   vkCmdEndRenderPass(cmd);
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gpu/pipeline.h"
+#include "render/raster_culling.h"
 #include "render/render_targets.h"
 #include "scene/gpu_scene.h"
 
@@ -11,7 +12,7 @@ namespace hdof {
 
 class GBufferPass {
  public:
-  GBufferPass(const gpu::Context& context, const GpuScene& scene);
+  GBufferPass(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene);
 
   // Makes the framebuffer for a new set of targets (call after they change).
   void bindTargets(const RenderTargets& targets);
@@ -24,6 +25,7 @@ class GBufferPass {
  private:
   const gpu::Context& context_;
   const GpuScene& scene_;
+  std::vector<TriangleRun> runs_;
   gpu::RenderPass renderPass_;
   gpu::Framebuffer framebuffer_;
   gpu::DescriptorSetLayout passSetLayout_;
