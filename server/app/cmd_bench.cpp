@@ -1,24 +1,13 @@
 // hdof bench: the speed figures of the foundation: BVH build, G-buffer, ray traversal.
 #include "app/commands.h"
-#include "app/scene_options.h"
+#include "app/render_setup.h"
 #include "render/frame_pipeline.h"
-#include "scene/gpu_scene.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <vector>
 
 namespace hdof {
-namespace {
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-}  // namespace
-
 int runBench(std::span<const std::string> args) {
   SceneOptions sceneOptions;
   LensOptions lensOptions;
@@ -40,26 +29,19 @@ int runBench(std::span<const std::string> args) {
   Size2 imageSize = parseSize(size, 4096);
   if (frames < 1 || frames > 10000) throw UsageError("--frames must be 1 to 10000");
 
-  LoadedScene loaded = loadSceneWithBvh(sceneOptions);
+  RenderSetup setup(sceneOptions, lensOptions, imageSize);
+  const LoadedScene& loaded = setup.loaded;
+  FrameRequest& request = setup.request;
   std::vector<double> buildMs;
   for (int i = 0; i < 3; ++i)
     buildMs.push_back(buildBvh(loaded.scene.vertices, loaded.scene.indices).buildMs);
-
-  FrameRequest request;
-  request.camera = resolveCamera(loaded.scene, sceneOptions.camera);
-  request.lens = resolveLens(lensOptions, loaded, sceneOptions.camera);
-  request.settings.width = imageSize.width;
-  request.settings.height = imageSize.height;
-  gpu::Context context(contextOptions(sceneOptions));
-  GpuScene gpuScene(context, loaded.scene, loaded.bvh);
-  FramePipeline pipeline(context, loaded.scene, gpuScene, imageSize.width, imageSize.height);
 
   auto measure = [&](RenderMode mode, std::initializer_list<const char*> passes) {
     request.mode = mode;
     std::vector<double> ms;
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
-      FrameStats stats = pipeline.render(request);
+      FrameStats stats = setup.pipeline.render(request);
       double passMs = 0.0;
       for (const char* pass : passes) passMs += stats.passMsOf(pass);
       if (i > 0) ms.push_back(passMs);  // frame 0 warms up (shader compilation on some drivers)
@@ -80,12 +62,12 @@ int runBench(std::span<const std::string> args) {
         "\"bvh_build_ms\":%.2f,\"bvh_nodes\":%zu,\"bvh_depth\":%u,\"gbuffer_ms\":%.3f,"
         "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,"
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
-        context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
+        setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, referenceMs, mraysPerSecond, frames);
     return 0;
   }
-  std::printf("device=\"%s\"\n", context.deviceName().c_str());
+  std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
   std::printf("scene=%s triangles=%zu size=%ux%u\n", loaded.scene.name.c_str(),
               loaded.scene.triangleCount(), imageSize.width, imageSize.height);
   std::printf("bvh_build_ms=%.1f bvh_nodes=%zu bvh_depth=%u (median of 3)\n", median(buildMs),

@@ -2,10 +2,9 @@
 // the partial-occlusion region, with its frame time.
 #include "app/commands.h"
 #include "app/progress.h"
-#include "app/scene_options.h"
+#include "app/render_setup.h"
 #include "quality/occlusion_mask.h"
 #include "quality/reference_image.h"
-#include "scene/gpu_scene.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,11 +29,6 @@ struct Row {
   ImageComparison whole, occluded;
   double msPerFrame;
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
 std::string formatDb(double db) {
   if (std::isinf(db)) return "inf";
@@ -82,15 +76,9 @@ int runQuality(std::span<const std::string> args) {
   if (!(referenceOptions.targetDb > 10.0 && referenceOptions.targetDb < 100.0))
     throw UsageError("--converged-db must be between 10 and 100");
 
-  LoadedScene loaded = loadSceneWithBvh(sceneOptions);
-  FrameRequest request;
-  request.camera = resolveCamera(loaded.scene, sceneOptions.camera);
-  request.lens = resolveLens(lensOptions, loaded, sceneOptions.camera);
-  request.settings.width = imageSize.width;
-  request.settings.height = imageSize.height;
-  gpu::Context context(contextOptions(sceneOptions));
-  GpuScene gpuScene(context, loaded.scene, loaded.bvh);
-  FramePipeline pipeline(context, loaded.scene, gpuScene, imageSize.width, imageSize.height);
+  RenderSetup setup(sceneOptions, lensOptions, imageSize);
+  FrameRequest& request = setup.request;
+  FramePipeline& pipeline = setup.pipeline;
   std::filesystem::create_directories(outDir);
   auto outPath = [&](const std::string& name) { return (std::filesystem::path(outDir) / name).string(); };
 

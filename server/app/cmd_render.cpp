@@ -1,10 +1,9 @@
 // hdof render: a still image, or a sequence of frames along a camera path, in a given mode.
 #include "app/commands.h"
 #include "app/progress.h"
-#include "app/scene_options.h"
+#include "app/render_setup.h"
 #include "render/camera_path.h"
 #include "render/frame_pipeline.h"
-#include "scene/gpu_scene.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -87,21 +86,14 @@ int runRender(std::span<const std::string> args) {
     }
   }
 
-  LoadedScene loaded = loadSceneWithBvh(sceneOptions);
-  Camera baseCamera = resolveCamera(loaded.scene, sceneOptions.camera);
-  Lens baseLens = resolveLens(lensOptions, loaded, sceneOptions.camera);
-  FrameRequest request;
+  RenderSetup setup(sceneOptions, lensOptions, imageSize);
+  FrameRequest& request = setup.request;
+  FramePipeline& pipeline = setup.pipeline;
+  const Camera baseCamera = request.camera;
+  const Lens baseLens = request.lens;
   request.mode = *renderMode;
-  request.camera = baseCamera;
-  request.lens = baseLens;
-  request.settings.width = imageSize.width;
-  request.settings.height = imageSize.height;
   request.settings.pixelJitter = !noJitter;
   request.settings.samplesPerPixel = spp;
-
-  gpu::Context context(contextOptions(sceneOptions));
-  GpuScene gpuScene(context, loaded.scene, loaded.bvh);
-  FramePipeline pipeline(context, loaded.scene, gpuScene, imageSize.width, imageSize.height);
 
   uint64_t work = uint64_t(frames) * (request.mode == RenderMode::Reference ? spp : 1);
   Progress progress(frames > 1 ? "frames" : modeName(request.mode), work);

@@ -1,10 +1,12 @@
-// Options that several subcommands share: which scene, camera, lens and device, and how they
-// turn into a loaded scene, a camera and a lens (with user-facing errors).
+// What the rendering subcommands share: options for the scene, camera, lens and device, how they
+// turn into a loaded scene, a camera and a lens (with user-facing errors), and the set-up that
+// renders frames of that view.
 #pragma once
 
 #include "app/cli.h"
 #include "gpu/context.h"
-#include "render/camera.h"
+#include "render/frame_pipeline.h"
+#include "scene/gpu_scene.h"
 #include "scene/bvh.h"
 #include "scene/scene.h"
 
@@ -42,5 +44,18 @@ Camera resolveCamera(const Scene& scene, const std::string& name);
 // the distance to the surface at the centre of the image. Throws UsageError on bad values.
 Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera);
 gpu::ContextOptions contextOptions(const SceneOptions& options);
+
+// The scene on a device with a frame pipeline of the given size, and a request for the view
+// the options describe (camera, lens, size; mode pinhole).
+struct RenderSetup {
+  RenderSetup(const SceneOptions& sceneOptions, const LensOptions& lensOptions, Size2 size);
+  LoadedScene loaded;
+  FrameRequest request;
+  gpu::Context context;
+  GpuScene gpuScene;
+  FramePipeline pipeline;
+};
+
+double median(std::vector<double> values);
 
 }  // namespace hdof

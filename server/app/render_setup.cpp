@@ -1,5 +1,6 @@
-#include "app/scene_options.h"
+#include "app/render_setup.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -86,6 +87,22 @@ gpu::ContextOptions contextOptions(const SceneOptions& options) {
   context.device = options.device;
   context.verbose = options.verbose;
   return context;
+}
+
+RenderSetup::RenderSetup(const SceneOptions& sceneOptions, const LensOptions& lensOptions,
+                         Size2 size)
+    : loaded(loadSceneWithBvh(sceneOptions)),
+      request{RenderMode::Pinhole, resolveCamera(loaded.scene, sceneOptions.camera),
+              resolveLens(lensOptions, loaded, sceneOptions.camera), {size.width, size.height}},
+      context(contextOptions(sceneOptions)),
+      gpuScene(context, loaded.scene, loaded.bvh),
+      pipeline(context, loaded.scene, gpuScene, size.width, size.height) {}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace hdof
