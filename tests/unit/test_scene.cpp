@@ -280,6 +280,35 @@ TEST(SceneLoading, GltfHierarchyMaterialsLightsAndCameras) {
   EXPECT_GT(camera.zfar, 100.0f) << "no zfar: an infinite projection";
 }
 
+// The same scene packed as a binary glTF: a JSON chunk and a BIN chunk holding the buffer.
+std::string packGlb(std::string json, std::string bin) {
+  auto pad = [](std::string& chunk, char fill) {
+    while (chunk.size() % 4) chunk += fill;
+  };
+  pad(json, ' ');
+  pad(bin, '\0');
+  auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+  std::string glb = "glTF" + u32(2) + u32(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+  glb += u32(uint32_t(json.size())) + "JSON" + json;
+  glb += u32(uint32_t(bin.size())) + std::string("BIN\0", 4) + bin;
+  return glb;
+}
+
+TEST(SceneLoading, BinaryGltfLoadsLikeTheTextForm) {
+  TempDir dir;
+  std::string json = kSmallGltf;
+  std::string uri = R"("uri": "small.bin", )";
+  json.replace(json.find(uri), uri.size(), "");
+  Scene fromGlb = loadScene(dir.write("small.glb", packGlb(json, smallGltfBuffer())));
+  dir.write("small.bin", smallGltfBuffer());
+  Scene fromGltf = loadScene(dir.write("small.gltf", kSmallGltf));
+  ASSERT_EQ(fromGlb.vertices.size(), fromGltf.vertices.size());
+  for (size_t i = 0; i < fromGlb.vertices.size(); ++i)
+    EXPECT_EQ(fromGlb.vertices[i].position, fromGltf.vertices[i].position) << i;
+  EXPECT_EQ(fromGlb.cameras.size(), fromGltf.cameras.size());
+  EXPECT_EQ(fromGlb.lights.size(), fromGltf.lights.size());
+}
+
 TEST(SceneLoading, AccessorsPastTheirBufferAreRejected) {
   TempDir dir;
   dir.write("small.bin", smallGltfBuffer().substr(0, 20));
