@@ -36,21 +36,30 @@ int runBench(std::span<const std::string> args) {
   for (int i = 0; i < 3; ++i)
     buildMs.push_back(buildBvh(loaded.scene.vertices, loaded.scene.indices).buildMs);
 
+  std::vector<double> wallMs;  // of the last measure(): submit to finish, the timestamps' check
   auto measure = [&](RenderMode mode, std::initializer_list<const char*> passes) {
     request.mode = mode;
     std::vector<double> ms;
+    wallMs.clear();
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
       FrameStats stats = setup.pipeline.render(request);
       double passMs = 0.0;
       for (const char* pass : passes) passMs += stats.passMsOf(pass);
-      if (i > 0) ms.push_back(passMs);  // frame 0 warms up (shader compilation on some drivers)
+      if (i == 0) continue;  // frame 0 warms up (shader compilation on some drivers)
+      ms.push_back(passMs);
+      wallMs.push_back(stats.wallMs);
     }
     return median(ms);
   };
   double visibilityMs = measure(RenderMode::Pinhole, {"visibility"});
   double resolveMs = measure(RenderMode::Pinhole, {"gbuffer"});
   double gbufferMs = measure(RenderMode::Pinhole, {"visibility", "gbuffer"});
+  double postProcessMs = measure(RenderMode::PostProcess, {"dof_downsample", "dof_tiles",
+                                                           "dof_dilate", "dof_prefilter",
+                                                           "dof_gather", "dof_median",
+                                                           "dof_composite"});
+  double postProcessFrameWallMs = median(wallMs);
   request.settings.samplesPerPixel = 1;
   double referenceMs = measure(RenderMode::Reference, {"reference"});
   double rays = double(imageSize.width) * imageSize.height;
@@ -60,11 +69,11 @@ int runBench(std::span<const std::string> args) {
     std::printf(
         "{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%zu,\"width\":%u,\"height\":%u,"
         "\"bvh_build_ms\":%.2f,\"bvh_nodes\":%zu,\"bvh_depth\":%u,\"gbuffer_ms\":%.3f,"
-        "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,"
+        "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,\"postprocess_dof_ms\":%.3f,"
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
-        loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, referenceMs, mraysPerSecond, frames);
+        loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs, mraysPerSecond, frames);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -74,6 +83,8 @@ int runBench(std::span<const std::string> args) {
               loaded.bvh.nodes.size(), loaded.bvh.depth);
   std::printf("gbuffer_ms=%.2f visibility_ms=%.2f resolve_ms=%.2f (medians of %u frames)\n",
               gbufferMs, visibilityMs, resolveMs, frames);
+  std::printf("postprocess_dof_ms=%.2f postprocess_frame_wall_ms=%.2f (medians)\n", postProcessMs,
+              postProcessFrameWallMs);
   std::printf("reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
               referenceMs, mraysPerSecond, frames);
   return 0;

@@ -104,6 +104,7 @@ int runQuality(std::span<const std::string> args) {
   if (!json) std::printf("reference: %s\n", reference.verdict().c_str());
 
   std::vector<ModeRun> runs = {{RenderMode::Pinhole},
+                               {RenderMode::PostProcess},
                                {RenderMode::RayTrace, 1, {1, 16}},
                                {RenderMode::RayTrace, 4, {1, 16}}};
   std::vector<Row> rows;

@@ -11,6 +11,7 @@ constexpr struct {
   RenderMode mode;
   const char* name;
 } kModes[] = {{RenderMode::Pinhole, "pinhole"},
+              {RenderMode::PostProcess, "postprocess"},
               {RenderMode::RayTrace, "raytrace"},
               {RenderMode::Reference, "reference"}};
 
@@ -66,6 +67,7 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
       gpuScene_(gpuScene),
       targets_(std::make_unique<RenderTargets>(context, width, height)),
       gbuffer_(context, scene, gpuScene),
+      postProcess_(context, width, height),
       reference_(context, gpuScene),
       tonemap_(context),
       frameUniforms_(context, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -84,6 +86,7 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   targets_.reset();
   targets_ = std::make_unique<RenderTargets>(context_, width, height);
   gbuffer_.bindTargets(*targets_);
+  postProcess_.resize(width, height);
   accumulation_.valid = false;
   depthReadback_ = gpu::Buffer();
 }
@@ -109,12 +112,17 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   const gpu::Image* radiance = &targets_->color;
   switch (request.mode) {
     case RenderMode::Pinhole:
+    case RenderMode::PostProcess:
       timer_.begin(cmd, "visibility");
       gbuffer_.recordVisibility(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
       timer_.begin(cmd, "gbuffer");
       gbuffer_.recordResolve(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
+      if (request.mode == RenderMode::PostProcess) {
+        postProcess_.record(cmd, timer_, frameUniforms_, *targets_);
+        radiance = &postProcess_.output();
+      }
       break;
     case RenderMode::RayTrace:
     case RenderMode::Reference: {
@@ -156,7 +164,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.passMs = timer_.results();
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
-  if (request.mode != RenderMode::Pinhole) stats.accumulatedSamples = accumulation_.samples;
+  if (request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference)
+    stats.accumulatedSamples = accumulation_.samples;
   return stats;
 }
 

@@ -6,6 +6,7 @@
 #include "image/image.h"
 #include "render/camera.h"
 #include "render/gbuffer_pass.h"
+#include "render/postprocess_dof.h"
 #include "render/reference_pass.h"
 #include "render/tonemap_pass.h"
 
@@ -18,11 +19,11 @@
 
 namespace hdof {
 
-enum class RenderMode { Pinhole, RayTrace, Reference };
+enum class RenderMode { Pinhole, PostProcess, RayTrace, Reference };
 
 const char* modeName(RenderMode mode);
 std::optional<RenderMode> parseMode(const std::string& name);
-std::string modeNames();  // "pinhole|raytrace|reference"
+std::string modeNames();  // "pinhole|postprocess|raytrace|reference"
 
 struct FrameRequest {
   RenderMode mode = RenderMode::Pinhole;
@@ -75,6 +76,7 @@ class FramePipeline {
   const GpuScene& gpuScene_;
   std::unique_ptr<RenderTargets> targets_;
   GBufferPass gbuffer_;
+  PostProcessDof postProcess_;
   ReferencePass reference_;
   TonemapPass tonemap_;
   gpu::Buffer frameUniforms_;

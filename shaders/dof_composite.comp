@@ -1,0 +1,77 @@
+// Post-process DoF, composite (full resolution): in the focus zone the sharp colour exactly;
+// beyond it the far layer, blended in as |CoC| grows; then the near layer over everything, with
+// its opacity (over in-focus pixels too: the blurred silhouette of a near object spreads).
+// Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3 half-
+// resolution pixels around it: 9 loads per layer instead of 16.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
+layout(set = 1, binding = 2, r16f) uniform readonly image2D cocImage;
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D farLayer;  // a: CoC
+layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // premultiplied
+layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
+layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
+
+void main() {
+  ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 first = quad * 2;
+  ivec2 size = ivec2(frame.image.xy);
+  if (any(greaterThanEqual(first, size))) return;
+  vec3 sharp[4];
+  float coc[4];
+  float blur[4];
+  bool anyBlur = false;
+  [[unroll]] for (int i = 0; i < 4; ++i) {
+    ivec2 pixel = min(first + ivec2(i & 1, i >> 1), size - 1);
+    sharp[i] = imageLoad(color, pixel).rgb;
+    coc[i] = imageLoad(cocImage, pixel).r;
+    blur[i] = blurAmount(coc[i]);
+    anyBlur = anyBlur || blur[i] > 0.0;
+  }
+  bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;
+
+  vec4 far[9];
+  vec4 near[9];
+  if (anyBlur || withNear) {
+    ivec2 halfLast = imageSize(farLayer) - 1;
+    [[unroll]] for (int j = 0; j < 9; ++j) {
+      ivec2 source = clamp(quad + ivec2(j % 3 - 1, j / 3 - 1), ivec2(0), halfLast);
+      if (anyBlur) far[j] = imageLoad(farLayer, source);
+      if (withNear) near[j] = imageLoad(nearLayer, source);
+    }
+  }
+
+  [[unroll]] for (int i = 0; i < 4; ++i) {
+    ivec2 offset = ivec2(i & 1, i >> 1);
+    ivec2 pixel = first + offset;
+    if (any(greaterThanEqual(pixel, size))) continue;
+    // A pixel centre lies a quarter of a half-resolution pixel inside the 2x2 half-resolution
+    // pixels from offset to offset + 1 of the 3x3: bilinear weights 3/4 and 1/4.
+    vec4 farSum = vec4(0.0);
+    vec4 nearSum = vec4(0.0);
+    [[unroll]] for (int k = 0; k < 4; ++k) {
+      ivec2 corner = ivec2(k & 1, k >> 1);
+      int j = (offset.y + corner.y) * 3 + offset.x + corner.x;
+      vec2 axes = mix(vec2(0.75), vec2(0.25), equal(corner, offset));
+      float bilinear = axes.x * axes.y;
+      if (anyBlur) {
+        // Far colour only from half-resolution pixels of a similar CoC, so it neither brings
+        // sharp colour into the blur nor blur across a depth edge.
+        float weight = bilinear * cocSimilarity(far[j].a, coc[i]);
+        farSum += vec4(far[j].rgb, 1.0) * weight;
+      }
+      if (withNear) nearSum += near[j] * bilinear;
+    }
+    // Where no half-resolution pixel nearby has this pixel's CoC (a thin gap between in-focus
+    // objects, which the downsample's nearest CoC closes), the sharp colour stands in.
+    float farAmount = blur[i] * saturate(farSum.w * 4.0);
+    vec3 background = farAmount > 0.0 ? mix(sharp[i], farSum.rgb / farSum.w, farAmount) : sharp[i];
+    imageStore(result, pixel, vec4(background * (1.0 - nearSum.a) + nearSum.rgb, 1.0));
+  }
+}

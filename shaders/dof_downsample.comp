@@ -1,0 +1,38 @@
+// Post-process DoF, CoC and downsample: the signed CoC of every pixel (full resolution), and
+// colour and CoC at half resolution. The CoC of a 2x2 block is its nearest, so near silhouettes
+// grow rather than shrink; colours are weighted by how close their CoC is to it, so in-focus
+// colour does not bleed into the blur of a near object.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
+layout(set = 1, binding = 2, rgba32f) uniform readonly image2D normalDepth;
+layout(set = 1, binding = 3, r16f) uniform writeonly image2D cocImage;
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  // a: CoC
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, imageSize(halfColorCoc)))) return;
+  ivec2 size = ivec2(frame.image.xy);
+  vec3 colors[4];
+  float cocs[4];
+  float nearest = kDofMaxCoc;
+  [[unroll]] for (int i = 0; i < 4; ++i) {
+    ivec2 source = pixel * 2 + ivec2(i & 1, i >> 1);
+    bool inside = all(lessThan(source, size));
+    source = min(source, size - 1);
+    colors[i] = imageLoad(color, source).rgb;
+    cocs[i] = signedCoc(imageLoad(normalDepth, source).w);
+    if (inside) imageStore(cocImage, source, vec4(cocs[i]));
+    nearest = min(nearest, cocs[i]);
+  }
+  vec4 sum = vec4(0.0);
+  [[unroll]] for (int i = 0; i < 4; ++i)
+    sum += vec4(colors[i], 1.0) * cocSimilarity(cocs[i], nearest);
+  imageStore(halfColorCoc, pixel, vec4(sum.rgb / sum.w, nearest));
+}

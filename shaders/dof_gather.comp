@@ -1,0 +1,140 @@
+// Post-process DoF, gather (half resolution): scatter-as-gather (Jimenez 2014). Each pixel looks
+// at a disc of rings as wide as its tile's largest CoC and asks, of every tap, how much of the
+// tap's blur (its energy spread over its CoC disc, alpha = 1 / area) covers this pixel. Taps are
+// presorted into two layers:
+//   near: the nearest near-field layer around the tile (CoCs close to the dilated tile's nearest),
+//         with its own radius: it spreads over what is behind it, in-focus pixels too (the
+//         silhouette spread). Its opacity is the energy that covers the centre (the weights
+//         times the area per tap), so a near object is also semi-transparent just inside its
+//         silhouette, as a blurred edge is on both sides.
+//   far: the rest, with the radius clamped to the centre's, so a blurred background never
+//        spreads over sharper pixels in front of it; normalised. Where nothing behind the near
+//        layer covers the centre, the taps' plain average fills the hole.
+// A tile that is in focus throughout is copied.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D prefiltered;  // a: CoC
+layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
+layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D farLayer;  // a: centre CoC
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D nearLayer;  // premultiplied
+
+const float kPi = 3.14159265;
+
+// A far tap's weight where it does not cover the centre: small against any covering tap's.
+const float kHoleFill = 1e-4;
+
+vec4 farSum = vec4(0.0);  // rgb * weight, weight
+vec4 nearSum = vec4(0.0);
+float centerRadius;
+float centerInverseArea;  // 1 / r^2; the pi cancels out of every weight
+float nearestCoc;  // the dilated tile's
+float inverseLayerDepth;  // 1 / how far behind the nearest CoC a tap is still near layer
+float inverseRamp;
+
+// A tap at `distance` covers the centre where its disc (radius scaled by the aperture's shape in
+// that direction) reaches it; the ramp is as wide as the tap spacing, so partial rings add up to
+// the disc's area and the disc edge does not step from ring to ring.
+float coverage(float radius, float distance) {
+  return saturate((radius - distance) * inverseRamp + 0.5);
+}
+
+// Aperture blades: the distance to the edge of a regular polygon of unit circumradius, seen from
+// its centre in direction `angle` (radians, y up); one vertex at the blade rotation.
+float apertureBoundary(float angle) {
+  float blades = frame.lens.w;
+  float sector = 2.0 * kPi / blades;
+  float offset = fract((angle - frame.lensShape.x) / sector) - 0.5;
+  return cos(kPi / blades) / cos(offset * sector);
+}
+
+// One tap at `angle` (radians, image space). withNear and polygon are constants at every call,
+// so each variant of the gather loop compiles without the work it does not need.
+void accumulate(vec4 tap, float distance, float angle, bool withNear, bool polygon) {
+  float radius = halfResRadius(tap.a);
+  float inverseArea = 1.0 / (radius * radius);
+  // The tap's blur reaches this pixel along the opposite direction; in image space (y down) a
+  // far-field blur is the aperture upright and a near-field one the aperture inverted.
+  float farShape = polygon ? apertureBoundary(kPi - angle) : 1.0;
+  float near = 0.0;
+  if (withNear)
+    near = nearness(tap.a) * saturate(2.0 - 2.0 * (tap.a - nearestCoc) * inverseLayerDepth);
+  float farRadius = min(radius, centerRadius);
+  float farWeight =
+      coverage(farRadius * farShape, distance) * max(inverseArea, centerInverseArea) + kHoleFill;
+  farSum += vec4(tap.rgb, 1.0) * (farWeight * (1.0 - near));
+  if (withNear) {
+    float nearShape = polygon ? apertureBoundary(-angle) : 1.0;
+    nearSum += vec4(tap.rgb, 1.0) * (coverage(radius * nearShape, distance) * inverseArea * near);
+  }
+}
+
+void gatherRings(ivec2 pixel, int rings, float spacing, bool withNear, bool polygon) {
+  ivec2 last = imageSize(prefiltered) - 1;
+  for (int ring = 1; ring <= rings; ++ring) {
+    int count = 8 * ring;
+    float step = 2.0 * kPi / float(count);
+    vec2 rotation = vec2(cos(step), sin(step));
+    // Odd and even rings are staggered by half a step, so taps do not line up radially.
+    float angle = (ring & 1) == 0 ? 0.5 * step : 0.0;
+    vec2 direction = vec2(cos(angle), sin(angle));
+    float radius = float(ring) * spacing;
+    for (int i = 0; i < count; ++i) {
+      ivec2 offset = ivec2(floor(direction * radius + 0.5));
+      vec4 tap = imageLoad(prefiltered, clamp(pixel + offset, ivec2(0), last));
+      // The rounded offset's own length: small kernels would blur more than they should with the
+      // ring's radius, which rounds outwards.
+      accumulate(tap, length(vec2(offset)), angle, withNear, polygon);
+      direction = vec2(direction.x * rotation.x - direction.y * rotation.y,
+                       direction.x * rotation.y + direction.y * rotation.x);
+      angle += step;
+    }
+  }
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(pixel, imageSize(prefiltered)))) return;
+  vec4 center = imageLoad(prefiltered, pixel);
+  vec2 tile = imageLoad(dilatedTiles, tileOfHalfResPixel(pixel)).xy;
+  float tileCoc = tile.x;
+  if (tileCoc < kDofFocusZone) {
+    imageStore(farLayer, pixel, center);
+    imageStore(nearLayer, pixel, vec4(0.0));
+    return;
+  }
+  int rings = gatherRings(tileCoc);
+  float spacing = ringSpacing(tileCoc);
+  inverseRamp = 1.0 / max(spacing, 1.0);
+  centerRadius = halfResRadius(center.a);
+  centerInverseArea = 1.0 / (centerRadius * centerRadius);
+  nearestCoc = tile.y;
+  inverseLayerDepth = 1.0 / max(2.0, 0.5 * abs(nearestCoc));
+  float blades = frame.lens.w;
+  bool polygon = blades >= 3.0;
+  // No tap can be in the near layer where the tile's nearest CoC is in focus.
+  bool withNear = nearestCoc <= -kDofFocusZone;
+
+  accumulate(center, 0.0, 0.0, true, false);
+  if (polygon)
+    gatherRings(pixel, rings, spacing, true, true);
+  else if (withNear)
+    gatherRings(pixel, rings, spacing, true, false);
+  else
+    gatherRings(pixel, rings, spacing, false, false);
+
+  // A polygon's area relative to its circumscribed circle's, for alpha = 1 / area.
+  float areaScale = polygon ? blades / (2.0 * kPi) * sin(2.0 * kPi / blades) : 1.0;
+  vec3 nearColor = nearSum.w > 0.0 ? nearSum.rgb / nearSum.w : vec3(0.0);
+  // Area per tap over the polygon's: the near weights' sum becomes the covered fraction.
+  float nearAlpha = saturate(nearSum.w * spacing * spacing / (4.0 * areaScale));
+  // Deep inside a near object no far tap reaches: the near colour stands in for the far one.
+  vec3 farColor = farSum.w > 0.0 ? farSum.rgb / farSum.w
+                                 : (nearSum.w > 0.0 ? nearColor : center.rgb);
+  imageStore(farLayer, pixel, vec4(farColor, center.a));
+  imageStore(nearLayer, pixel, vec4(nearColor * nearAlpha, nearAlpha));
+}

@@ -1,0 +1,56 @@
+// Post-process DoF, postfilter: a 3x3 median of both half-resolution layers, per channel. It
+// removes the isolated outliers of a sparse gather and keeps edges (bokeh rims, silhouettes). The
+// far layer's alpha (the CoC the composite weighs by) is kept, not filtered.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D farLayer;
+layout(set = 1, binding = 2, rgba16f) uniform readonly image2D nearLayer;
+layout(set = 1, binding = 3, rg16f) uniform readonly image2D dilatedTiles;
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D farFiltered;
+layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D nearFiltered;
+
+void sort2(inout vec4 a, inout vec4 b) {
+  vec4 low = min(a, b);
+  b = max(a, b);
+  a = low;
+}
+
+// The median of nine (Paeth's 19-exchange network), per component; ends in v[4].
+vec4 median9(vec4 v[9]) {
+  sort2(v[1], v[2]); sort2(v[4], v[5]); sort2(v[7], v[8]);
+  sort2(v[0], v[1]); sort2(v[3], v[4]); sort2(v[6], v[7]);
+  sort2(v[1], v[2]); sort2(v[4], v[5]); sort2(v[7], v[8]);
+  sort2(v[0], v[3]); sort2(v[5], v[8]); sort2(v[4], v[7]);
+  sort2(v[3], v[6]); sort2(v[1], v[4]); sort2(v[2], v[5]);
+  sort2(v[4], v[7]); sort2(v[4], v[2]); sort2(v[6], v[4]);
+  sort2(v[4], v[2]);
+  return v[4];
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = imageSize(farLayer);
+  if (any(greaterThanEqual(pixel, size))) return;
+  vec4 farCenter = imageLoad(farLayer, pixel);
+  // Tiles in focus throughout were copied by the gather: nothing to clean.
+  if (imageLoad(dilatedTiles, tileOfHalfResPixel(pixel)).x < kDofFocusZone) {
+    imageStore(farFiltered, pixel, farCenter);
+    imageStore(nearFiltered, pixel, vec4(0.0));
+    return;
+  }
+  vec4 far[9];
+  vec4 near[9];
+  [[unroll]] for (int i = 0; i < 9; ++i) {
+    ivec2 source = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), size - 1);
+    far[i] = imageLoad(farLayer, source);
+    near[i] = imageLoad(nearLayer, source);
+  }
+  imageStore(farFiltered, pixel, vec4(median9(far).rgb, farCenter.a));
+  imageStore(nearFiltered, pixel, median9(near));
+}

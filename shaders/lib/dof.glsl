@@ -1,0 +1,42 @@
+// Helpers of the post-process depth of field passes (shaders/dof_*.comp). Needs lib/frame.glsl.
+#ifndef HDOF_LIB_DOF_GLSL
+#define HDOF_LIB_DOF_GLSL
+#include "shared/dof.h"
+
+float saturate(float x) { return clamp(x, 0.0, 1.0); }
+
+float signedCoc(float linearDepth) {
+  float coc = signedCocPixels(linearDepth, frame.up.w, frame.forward.w, frame.lens.x);
+  return clamp(coc, -kDofMaxCoc, kDofMaxCoc);
+}
+
+// CoC radius in half-resolution pixels. At least half a pixel: a pixel always covers itself,
+// and 1 / (pi r^2) stays finite.
+float halfResRadius(float coc) { return max(abs(coc) * 0.25, 0.5); }
+
+// Bilateral weight between two CoCs: 1 when equal, 0 once they differ by half the reference
+// (at least 2 px), so in-focus colour does not mix into blur nor near colour into far.
+float cocSimilarity(float coc, float reference) {
+  return saturate(1.0 - abs(coc - reference) / max(2.0, 0.5 * abs(reference)));
+}
+
+// How much of a pixel is the half-resolution blur rather than its sharp colour.
+float blurAmount(float coc) {
+  return saturate((abs(coc) - kDofFocusZone) / (kDofFullBlurCoc - kDofFocusZone));
+}
+
+// How much a sample belongs to the near layer, which may spread over sharper pixels: as much as
+// it is blurred, so that the near layer never brings its blur to nearly sharp near pixels.
+float nearness(float coc) { return coc < 0.0 ? blurAmount(coc) : 0.0; }
+
+// The gather kernel of a tile whose dilated largest |CoC| is tileCoc: its ring count and ring
+// spacing (half-resolution pixels). The prefilter fills the gaps between taps with the spacing.
+int gatherRings(float tileCoc) {
+  return clamp(int(ceil(tileCoc * 0.25 / kDofRingSpacing)), 1, kDofMaxRings);
+}
+float ringSpacing(float tileCoc) { return tileCoc * 0.25 / float(gatherRings(tileCoc)); }
+
+// The dilated tile (x: largest |CoC|, y: nearest CoC) of a half-resolution pixel.
+ivec2 tileOfHalfResPixel(ivec2 pixel) { return pixel / int(kDofTileSize / 2u); }
+
+#endif

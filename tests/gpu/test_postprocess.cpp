@@ -1,0 +1,273 @@
+// The post-process depth of field: in-focus stays sharp, out-of-focus blurs, and a small bright
+// light becomes a bokeh disc of its CoC's size (and of the aperture's shape).
+#include "render/gbuffer_pass.h"
+#include "render/postprocess_dof.h"
+#include "render/tonemap_pass.h"
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+#include <glm/gtc/packing.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace hdof::test {
+namespace {
+
+// The G-buffer, the post-process and the tonemap strung together by hand, with the sharp colour
+// and the post-process output also read back in HDR.
+class PostProcessRig {
+ public:
+  PostProcessRig(const std::string& sceneSpec, uint32_t width, uint32_t height)
+      : scene_(testScene(sceneSpec)),
+        targets_(testContext(), width, height),
+        gbuffer_(testContext(), scene_.scene, *scene_.gpu),
+        dof_(testContext(), width / 2 + 1, height / 2 + 1),
+        tonemap_(testContext()),
+        uniformBuffer_(testContext(), sizeof(gpu::FrameUniforms),
+                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "test uniforms"),
+        sharpReadback_(testContext(), VkDeviceSize(width) * height * 8,
+                       VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback, "test sharp"),
+        blurredReadback_(testContext(), VkDeviceSize(width) * height * 8,
+                         VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback, "test dof"),
+        timer_(testContext()) {
+    gbuffer_.bindTargets(targets_);
+    // Made for another size, as a session's is before its viewport changes.
+    dof_.resize(width, height);
+    camera_ = Camera::fromScene(scene_.scene.cameras.front());
+    suggestedFocus_ = scene_.scene.cameras.front().focusDistance.value_or(5.0f);
+  }
+
+  struct Frame {
+    ImageRgba8 sharp;    // the G-buffer colour, tonemapped: the pinhole image
+    ImageRgba8 blurred;  // the post-process output, tonemapped
+    std::vector<glm::vec3> sharpHdr, blurredHdr;
+    std::vector<std::pair<std::string, double>> passMs;  // the GPU timer's
+    double wallMs = 0.0;  // the post-process's submission, as the CPU saw it
+  };
+
+  // lens.focusDistance 0: the scene camera's suggestion.
+  Frame render(Lens lens) {
+    if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
+    FrameSettings settings;
+    settings.width = targets_.width;
+    settings.height = targets_.height;
+    uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
+    std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
+    Frame frame;
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      gbuffer_.recordVisibility(cmd, uniformBuffer_, targets_);
+      gbuffer_.recordResolve(cmd, uniformBuffer_, targets_);
+    });
+    // A submission of its own, so its wall time is the post-process's alone.
+    auto start = std::chrono::steady_clock::now();
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      dof_.record(cmd, timer_, uniformBuffer_, targets_);
+    });
+    frame.wallMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    frame.passMs = timer_.results();
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      tonemap_.record(cmd, uniformBuffer_, dof_.output(), targets_);
+      copyToBuffer(cmd, dof_.output(), blurredReadback_);
+      copyToBuffer(cmd, targets_.color, sharpReadback_);
+    });
+    frame.blurred = display();
+    frame.blurredHdr = hdrPixels(blurredReadback_);
+    frame.sharpHdr = hdrPixels(sharpReadback_);
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      tonemap_.record(cmd, uniformBuffer_, targets_.color, targets_);
+    });
+    frame.sharp = display();
+    return frame;
+  }
+
+  gpu::FrameUniforms uniforms{};
+
+ private:
+  void copyToBuffer(VkCommandBuffer cmd, const gpu::Image& image, const gpu::Buffer& buffer) {
+    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {targets_.width, targets_.height, 1};
+    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, buffer.get(), 1, &region);
+    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  }
+
+  ImageRgba8 display() const {
+    ImageRgba8 image;
+    image.width = targets_.width;
+    image.height = targets_.height;
+    image.pixels.resize(size_t(image.width) * image.height * 4);
+    std::memcpy(image.pixels.data(), targets_.readback.mapped(), image.pixels.size());
+    return image;
+  }
+
+  std::vector<glm::vec3> hdrPixels(const gpu::Buffer& buffer) const {
+    const auto* halves = static_cast<const uint16_t*>(buffer.mapped());
+    std::vector<glm::vec3> pixels(size_t(targets_.width) * targets_.height);
+    for (size_t i = 0; i < pixels.size(); ++i)
+      for (int c = 0; c < 3; ++c) pixels[i][c] = glm::unpackHalf1x16(halves[i * 4 + c]);
+    return pixels;
+  }
+
+  SceneOnGpu& scene_;
+  RenderTargets targets_;
+  GBufferPass gbuffer_;
+  PostProcessDof dof_;
+  TonemapPass tonemap_;
+  gpu::Buffer uniformBuffer_;
+  gpu::Buffer sharpReadback_, blurredReadback_;
+  gpu::GpuTimer timer_;
+  Camera camera_;
+  float suggestedFocus_ = 5.0f;
+};
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+double totalLuminance(const std::vector<glm::vec3>& pixels) {
+  double sum = 0.0;
+  for (const glm::vec3& p : pixels) sum += luminance(p);
+  return sum;
+}
+
+struct BrightRegion {
+  float width = 0.0f, height = 0.0f;  // extent, pixels
+  float area = 0.0f;                  // pixels
+  float plateau = 0.0f;               // median luminance of the disc's inner part
+  float peak = 0.0f;
+};
+
+// The region brighter than half the disc's typical luminance, the disc centred on the brightest
+// pixel and about expectedRadius wide.
+BrightRegion measureBokeh(const std::vector<glm::vec3>& hdr, uint32_t width, uint32_t height,
+                          float expectedRadius) {
+  std::vector<float> lum(hdr.size());
+  for (size_t i = 0; i < hdr.size(); ++i) lum[i] = luminance(hdr[i]);
+  size_t peakIndex = std::max_element(lum.begin(), lum.end()) - lum.begin();
+  glm::vec2 center(float(peakIndex % width), float(peakIndex / width));
+  std::vector<float> inner;
+  for (uint32_t y = 0; y < height; ++y)
+    for (uint32_t x = 0; x < width; ++x)
+      if (glm::length(glm::vec2(x, y) - center) < 0.6f * expectedRadius)
+        inner.push_back(lum[y * width + x]);
+  std::nth_element(inner.begin(), inner.begin() + inner.size() / 2, inner.end());
+  BrightRegion region;
+  region.plateau = inner[inner.size() / 2];
+  region.peak = lum[peakIndex];
+  int x0 = int(width), x1 = -1, y0 = int(height), y1 = -1;
+  for (uint32_t y = 0; y < height; ++y) {
+    for (uint32_t x = 0; x < width; ++x) {
+      if (lum[y * width + x] < 0.5f * region.plateau) continue;
+      x0 = std::min(x0, int(x)), x1 = std::max(x1, int(x));
+      y0 = std::min(y0, int(y)), y1 = std::max(y1, int(y));
+      region.area += 1.0f;
+    }
+  }
+  region.width = float(x1 - x0 + 1);
+  region.height = float(y1 - y0 + 1);
+  return region;
+}
+
+constexpr uint32_t kWidth = 640, kHeight = 360;
+
+TEST(PostProcess, InFocusWallStaysSharp) {
+  // The wall is square-on at the focus distance: every CoC is zero, so the output must be the
+  // sharp colour, however wide the aperture. An odd size checks the half-resolution edges.
+  const Lens lens{50.0f, 1.4f, 3.0f};
+  PostProcessRig rig("builtin:wall", 321, 181);
+  PostProcessRig::Frame frame = rig.render(lens);
+  RenderSpec pinhole;
+  pinhole.scene = "builtin:wall";
+  pinhole.width = 321;
+  pinhole.height = 181;
+  pinhole.lens = lens;
+  EXPECT_GE(compareImages(frame.blurred, renderImage(pinhole)).psnrDb, 45.0);
+  EXPECT_GE(compareImages(frame.blurred, frame.sharp).psnrDb, 45.0);
+}
+
+TEST(PostProcess, OutOfFocusBlurs) {
+  PostProcessRig rig("builtin:dof", 320, 180);
+  PostProcessRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 0.0f});
+  double psnr = compareImages(frame.blurred, frame.sharp).psnrDb;
+  EXPECT_LT(psnr, 32.0) << "near and far objects blur";
+  EXPECT_GT(psnr, 15.0) << "but the image is still the same scene";
+}
+
+// The 2 cm light at 10 m with focus at 2 m: a disc whose diameter is the CoC at 10 m, with the
+// light's energy. Returns the disc's area.
+float expectBokehDisc(float fNumber, uint32_t blades) {
+  PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
+  Lens lens{100.0f, fNumber, 2.0f, blades, 0.0f};
+  PostProcessRig::Frame frame = rig.render(lens);
+  float coc =
+      std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), 2.0f, rig.uniforms.lens.x));
+  BrightRegion disc = measureBokeh(frame.blurredHdr, kWidth, kHeight, 0.5f * coc);
+  SCOPED_TRACE("f/" + std::to_string(fNumber) + ", " + std::to_string(blades) + " blades, CoC " +
+               std::to_string(coc) + " px, disc " + std::to_string(disc.width) + " x " +
+               std::to_string(disc.height) + " px");
+  EXPECT_NEAR(disc.width, coc, 0.25f * coc);
+  EXPECT_NEAR(disc.height, coc, 0.25f * coc);
+  // Filled, not a ring of dots: most of the disc is bright.
+  EXPECT_GT(disc.area, 0.6f * 3.14159f * 0.25f * disc.width * disc.height);
+  // No sharp speck left where the light is.
+  EXPECT_LT(disc.peak, 4.0f * disc.plateau);
+  // Spread, not made or lost: the image holds the light it held.
+  EXPECT_NEAR(totalLuminance(frame.blurredHdr) / totalLuminance(frame.sharpHdr), 1.0, 0.15);
+  return disc.area;
+}
+
+TEST(PostProcess, SmallBrightLightBecomesADiscOfItsCoc) {
+  expectBokehDisc(1.0f, 0);
+  expectBokehDisc(0.5f, 0);
+}
+
+TEST(PostProcess, ApertureBladesShapeTheBokeh) {
+  float circle = expectBokehDisc(0.5f, 0);
+  float hexagon = expectBokehDisc(0.5f, 6);
+  // A hexagon inscribed in the circle covers 3 sqrt(3) / (2 pi) = 0.83 of it.
+  EXPECT_NEAR(hexagon / circle, 0.83f, 0.1f);
+}
+
+// Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
+TEST(PostProcess, ReportsEveryPassTime) {
+  PostProcessRig rig("builtin:dof", kWidth, kHeight);
+  constexpr int kFrames = 10;
+  for (float fNumber : {2.8f, 1.4f}) {
+    std::vector<std::pair<std::string, std::vector<double>>> times;  // in recording order
+    std::vector<double> wallMs;
+    for (int frame = 0; frame <= kFrames; ++frame) {
+      PostProcessRig::Frame result = rig.render(Lens{50.0f, fNumber, 0.0f});
+      if (frame == 0) continue;  // shader compilation
+      times.resize(result.passMs.size());
+      for (size_t i = 0; i < result.passMs.size(); ++i) {
+        times[i].first = result.passMs[i].first;
+        times[i].second.push_back(result.passMs[i].second);
+      }
+      wallMs.push_back(result.wallMs);
+    }
+    EXPECT_EQ(times.size(), 7u);
+    auto median = [](std::vector<double>& values) {
+      std::sort(values.begin(), values.end());
+      return values[values.size() / 2];
+    };
+    double total = 0.0;
+    std::printf("builtin:dof %ux%u f/%.1f, median of %d frames:\n", kWidth, kHeight, fNumber,
+                kFrames);
+    for (auto& [name, ms] : times) {
+      total += median(ms);
+      std::printf("  %-16s %6.2f ms\n", name.c_str(), median(ms));
+    }
+    std::printf("  %-16s %6.2f ms (wall clock of the submission: %.2f ms)\n", "sum", total,
+                median(wallMs));
+  }
+}
+
+}  // namespace
+}  // namespace hdof::test
