@@ -28,6 +28,13 @@ const Command kCommands[] = {
     {"bench", "measure G-buffer time, ray traversal speed and BVH build time", hdof::runBench},
 };
 
+// Bad usage or bad input (exit code 2), as opposed to a failure of the machine (exit code 1).
+bool isInputError(const std::exception& e) {
+  return dynamic_cast<const hdof::UsageError*>(&e) || dynamic_cast<const hdof::SceneError*>(&e) ||
+         dynamic_cast<const hdof::ImageError*>(&e) ||
+         dynamic_cast<const hdof::DeviceChoiceError*>(&e);
+}
+
 void printUsage(FILE* out) {
   std::fprintf(out,
                "usage: hdof COMMAND [OPTIONS]\n\n"
@@ -61,24 +68,9 @@ int main(int argc, char** argv) {
     if (args[0] != c.name) continue;
     try {
       return c.run(std::span<const std::string>(args).subspan(1));
-    } catch (const hdof::UsageError& e) {
-      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
-      return 2;
-    } catch (const hdof::SceneError& e) {
-      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
-      return 2;
-    } catch (const hdof::ImageError& e) {
-      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
-      return 2;
-    } catch (const hdof::DeviceChoiceError& e) {
-      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
-      return 2;
-    } catch (const hdof::NoVulkanError& e) {
-      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
-      return 1;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "hdof %s: error: %s\n", c.name, e.what());
-      return 1;
+      std::fprintf(stderr, "hdof %s: %s\n", c.name, e.what());
+      return isInputError(e) ? 2 : 1;
     }
   }
   std::fprintf(stderr, "hdof: unknown command '%s' (see hdof --help)\n", args[0].c_str());
