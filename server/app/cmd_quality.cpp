@@ -93,6 +93,7 @@ int runQuality(std::span<const std::string> args) {
   writeImage(outPath("occlusion-mask.png"), regionImage);
   bool hasRegion = maskCount(region) > 0;
 
+  if (hasRegion) referenceOptions.region = &regionImage;
   ReferenceImage reference;
   {
     Progress progress("reference", referenceOptions.fixedRays ? referenceOptions.fixedRays
@@ -140,6 +141,7 @@ int runQuality(std::span<const std::string> args) {
     nlohmann::json out;
     out["reference"] = {{"rays_per_pixel", reference.rays},
                         {"last_step_psnr_db", reference.lastStepDb},
+                        {"last_step_region_psnr_db", reference.lastStepRegionDb},
                         {"converged", reference.converged},
                         {"verdict", reference.verdict()}};
     out["occlusion_pixels"] = maskCount(region);

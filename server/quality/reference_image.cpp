@@ -10,8 +10,9 @@ std::string ReferenceImage::verdict() const {
     std::snprintf(text, sizeof(text), "%u rays per pixel, as asked (no convergence test)", rays);
   else
     std::snprintf(text, sizeof(text),
-                  "%u rays per pixel; the image at %u rays differs from it by PSNR %.1f dB, %s",
-                  rays, rays / 2, lastStepDb,
+                  "%u rays per pixel; the image at %u rays differs from it by PSNR %.1f dB "
+                  "(%.1f dB in the occlusion region), %s",
+                  rays, rays / 2, lastStepDb, lastStepRegionDb,
                   converged ? "so it is converged to about that level"
                             : "short of the target: raise --max-reference-spp");
   return text;
@@ -42,8 +43,11 @@ ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest re
     rays *= 2;
     ImageRgba8 current = pipeline.image();
     result.lastStepDb = compareImages(previous, current).psnrDb;
+    result.lastStepRegionDb =
+        options.region ? compareImages(previous, current, options.region).psnrDb : 0.0;
     previous = std::move(current);
-    if (result.lastStepDb >= options.targetDb) {
+    if (result.lastStepDb >= options.targetDb &&
+        (!options.region || result.lastStepRegionDb >= options.targetDb)) {
       result.converged = true;
       break;
     }

@@ -13,12 +13,16 @@ struct ReferenceOptions {
   uint32_t startRays = 16;
   uint32_t maxRays = 1024;
   double targetDb = 42.0;  // PSNR between the image at N and at N/2 rays that counts as converged
+  // Where given, the PSNR inside this mask (white pixels) must reach the target too: the blurred
+  // silhouettes that quality is measured on are the noisiest part of the image.
+  const ImageRgba8* region = nullptr;
 };
 
 struct ReferenceImage {
   ImageRgba8 image;
   uint32_t rays = 0;
   double lastStepDb = 0.0;  // PSNR between the images at rays and rays/2 (0 when fixed)
+  double lastStepRegionDb = 0.0;  // the same inside options.region (0 without one)
   bool converged = false;
   double gpuMs = 0.0;
   // One sentence on how convergence was decided, for the user.
