@@ -32,7 +32,7 @@ void main() {
     vec4 u = r4Sample(push.firstSample + i, rotation);
     vec2 position = vec2(pixel) + (jitter ? u.xy : vec2(0.5));
     vec3 origin;
-    vec3 direction = thinLensRay(position, concentricDisc(u.zw), origin);
+    vec3 direction = thinLensRay(position, apertureSample(u.zw), origin);
     sum += traceCameraRay(origin, direction).radiance;
   }
   vec4 previous = push.accumulate == 0u ? vec4(0.0) : imageLoad(accumulation, ivec2(pixel));

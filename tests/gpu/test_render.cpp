@@ -95,3 +95,57 @@ TEST(Context, UnknownDeviceIsAClearError) {
 
 }  // namespace
 }  // namespace hdof::test
+
+namespace hdof::test {
+namespace {
+
+// The bokeh's outline: the farthest bright pixel from its centre within +-7.5 degrees of each
+// direction, averaged over the six directions at `firstAngle` + k 60 degrees.
+double outlineRadius(const ImageRgba8& image, double firstAngle) {
+  double cx = 0.0, cy = 0.0, total = 0.0;
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x) {
+      double v = image.pixels[(size_t(y) * image.width + x) * 4 + 1];
+      cx += v * x, cy += v * y, total += v;
+    }
+  cx /= total, cy /= total;
+  double farthest[6] = {};
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x) {
+      if (image.pixels[(size_t(y) * image.width + x) * 4 + 1] < 60) continue;
+      double dx = x - cx, dy = cy - y;  // y up
+      double angle = std::atan2(dy, dx) * 180.0 / M_PI - firstAngle;
+      double sector = std::remainder(angle, 60.0);
+      if (std::abs(sector) > 7.5) continue;
+      int k = int(std::lround((angle - sector) / 60.0)) % 6;
+      farthest[(k + 6) % 6] = std::max(farthest[(k + 6) % 6], std::hypot(dx, dy));
+    }
+  double sum = 0.0;
+  for (double r : farthest) sum += r;
+  return sum / 6.0;
+}
+
+TEST(Render, ApertureBladesShapeTheRayTracedBokeh) {
+  RenderSpec spec;
+  spec.scene = "builtin:bokeh";
+  spec.width = 480;
+  spec.height = 270;
+  spec.mode = RenderMode::Reference;
+  spec.raysPerPixel = 96;
+  spec.lens = Lens{200.0f, 0.5f, 0.0f};
+  spec.lens.blades = 6;
+  ImageRgba8 hexagon = renderImage(spec);
+  // Six blades with a vertex to the right: out to the corners at 0, 60, ... degrees, only to
+  // the flat edges (cos 30 = 0.87 of that) at 30, 90, ... degrees.
+  double corners = outlineRadius(hexagon, 0.0), edges = outlineRadius(hexagon, 30.0);
+  std::printf("hexagon: corners %.1f px, edges %.1f px\n", corners, edges);
+  EXPECT_NEAR(edges / corners, 0.87, 0.06);
+  spec.lens.blades = 0;
+  ImageRgba8 circle = renderImage(spec);
+  double a = outlineRadius(circle, 0.0), b = outlineRadius(circle, 30.0);
+  std::printf("circle: %.1f px, %.1f px\n", a, b);
+  EXPECT_NEAR(b / a, 1.0, 0.06);
+}
+
+}  // namespace
+}  // namespace hdof::test
