@@ -1,5 +1,7 @@
 #include "scene/gpu_scene.h"
 
+#include "scene/gpu_bvh.h"
+
 #include <stb_image_resize.h>
 
 #include <algorithm>
@@ -73,6 +75,34 @@ gpu::Image uploadTextureArray(const gpu::Context& context, const std::vector<Tex
   return image;
 }
 
+// Uploads BVH data as a uniform texel buffer of RGBA32UI texels, the way lib/bvh_traverse.glsl
+// reads it.
+template <typename T>
+gpu::Buffer uploadTexels(const gpu::Context& context, const std::vector<T>& items,
+                         const std::string& name) {
+  static_assert(sizeof(T) % sizeof(glm::uvec4) == 0);
+  size_t texels = items.size() * (sizeof(T) / sizeof(glm::uvec4));
+  uint32_t limit = context.properties().limits.maxTexelBufferElements;
+  if (texels > limit)
+    throw SceneError("the scene is too large for this device: " + name + " take " +
+                     std::to_string(texels) + " texels, at most " + std::to_string(limit) +
+                     " are supported");
+  return gpu::createBufferWithData(context, std::span(items),
+                                   VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT, name);
+}
+
+auto createTexelView(const gpu::Context& context, const gpu::Buffer& buffer,
+                     const std::string& name) {
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.get();
+  info.format = VK_FORMAT_R32G32B32A32_UINT;
+  info.range = VK_WHOLE_SIZE;
+  VkBufferView view = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateBufferView(context.device(), &info, nullptr, &view));
+  context.setName(VK_OBJECT_TYPE_BUFFER_VIEW, reinterpret_cast<uint64_t>(view), name);
+  return gpu::DeviceObject<VkBufferView, vkDestroyBufferView>(context.device(), view);
+}
+
 }  // namespace
 
 GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh)
@@ -93,9 +123,10 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   materials_ = gpu::createBufferWithData(context, std::span(scene.materials), kStorage,
                                          "scene materials");
   lights_ = gpu::createBufferWithData(context, std::span(scene.lights), kStorage, "scene lights");
-  bvhNodes_ = gpu::createBufferWithData(context, std::span(bvh.nodes), kStorage, "bvh nodes");
-  bvhTriangles_ =
-      gpu::createBufferWithData(context, std::span(bvh.triangles), kStorage, "bvh triangles");
+  bvhNodes_ = uploadTexels(context, packBvhPairNodes(bvh), "bvh nodes");
+  bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
+  bvhNodeTexels_ = createTexelView(context, bvhNodes_, "bvh node texels");
+  bvhTriangleTexels_ = createTexelView(context, bvhTriangles_, "bvh triangle texels");
 
   textures_ = uploadTextureArray(context, scene.textures);
 
@@ -111,16 +142,17 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   sampler_ = gpu::Sampler(context.device(), sampler);
 
   constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  constexpr VkDescriptorType kTexels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   setLayout_ = gpu::createSetLayout(
       context,
-      {{kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kBuffer},
+      {{kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kTexels}, {kTexels},
        {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}},
       false, "scene set");
-  VkDescriptorPoolSize sizes[] = {{kBuffer, 6},
-                                  {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+  VkDescriptorPoolSize sizes[] = {
+      {kBuffer, 4}, {kTexels, 2}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 2;
+  poolInfo.poolSizeCount = 3;
   poolInfo.pPoolSizes = sizes;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VK_CHECK(vkCreateDescriptorPool(context.device(), &poolInfo, nullptr, &pool));
@@ -132,20 +164,25 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   allocInfo.pSetLayouts = &layout;
   VK_CHECK(vkAllocateDescriptorSets(context.device(), &allocInfo, &descriptorSet_));
 
-  const gpu::Buffer* buffers[] = {&vertices_, &indices_, &materials_,
-                                  &lights_, &bvhNodes_, &bvhTriangles_};
+  const gpu::Buffer* buffers[] = {&vertices_, &indices_, &materials_, &lights_};
   std::vector<VkDescriptorBufferInfo> bufferInfos;
   for (const gpu::Buffer* b : buffers) bufferInfos.push_back(b->descriptor());
+  VkBufferView texelViews[] = {bvhNodeTexels_, bvhTriangleTexels_};
   VkDescriptorImageInfo imageInfo{sampler_, textures_.view(),
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   std::vector<VkWriteDescriptorSet> writes;
-  for (uint32_t i = 0; i < bufferInfos.size(); ++i) {
+  for (uint32_t i = 0; i < gpu::kBindingTextures; ++i) {
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstSet = descriptorSet_;
     write.dstBinding = i;
     write.descriptorCount = 1;
-    write.descriptorType = kBuffer;
-    write.pBufferInfo = &bufferInfos[i];
+    if (i < gpu::kBindingBvhNodes) {
+      write.descriptorType = kBuffer;
+      write.pBufferInfo = &bufferInfos[i];
+    } else {
+      write.descriptorType = kTexels;
+      write.pTexelBufferView = &texelViews[i - gpu::kBindingBvhNodes];
+    }
     writes.push_back(write);
   }
   VkWriteDescriptorSet textureWrite{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};

@@ -22,7 +22,10 @@ class GpuScene {
   uint32_t lightCount() const { return lightCount_; }
 
  private:
+  using BufferView = gpu::DeviceObject<VkBufferView, vkDestroyBufferView>;
+
   gpu::Buffer vertices_, indices_, corners_, materials_, lights_, bvhNodes_, bvhTriangles_;
+  BufferView bvhNodeTexels_, bvhTriangleTexels_;  // what the traversal reads (see scene_data.h)
   gpu::Image textures_;  // a 2D array, one layer per scene texture
   gpu::Sampler sampler_;
   gpu::DescriptorSetLayout setLayout_;

@@ -13,8 +13,8 @@ HDOF_CONST uint kBindingVertices = 0;
 HDOF_CONST uint kBindingIndices = 1;
 HDOF_CONST uint kBindingMaterials = 2;
 HDOF_CONST uint kBindingLights = 3;
-HDOF_CONST uint kBindingBvhNodes = 4;
-HDOF_CONST uint kBindingBvhTriangles = 5;
+HDOF_CONST uint kBindingBvhNodes = 4;  // BvhPairNode, as an RGBA32UI uniform texel buffer
+HDOF_CONST uint kBindingBvhTriangles = 5;  // BvhTriangle, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingTextures = 6;  // one 2D array texture, a layer per scene texture
 
 // Scene textures are resampled to square layers of one array texture, so that any shader can
@@ -55,8 +55,9 @@ struct Light {
   float spotCosOuter;
 };
 
-// BVH node: an interior node's children are nodes leftOrFirst and leftOrFirst + 1; a leaf holds
-// triangleCount > 0 triangles starting at leftOrFirst in the leaf-ordered triangle array.
+// BVH node as built on the CPU: an interior node's children are nodes leftOrFirst and
+// leftOrFirst + 1; a leaf holds triangleCount > 0 triangles starting at leftOrFirst in the
+// leaf-ordered triangle array.
 struct BvhNode {
   vec3 boundsMin;
   uint leftOrFirst;
@@ -76,6 +77,23 @@ struct BvhTriangle {
   float pad1_;
 };
 
+// BVH node as the compute shaders traverse it: the boxes of both children of an interior node of
+// the built tree, so that one 64-byte fetch tests both. A child's `link` is the node holding its
+// own children, or kBvhLeafBit plus its first triangle in leaf order when it is a leaf of
+// triangleCount triangles. Node 0 holds the root's children.
+HDOF_CONST uint kBvhLeafBit = 0x80000000u;
+
+struct BvhChild {
+  vec3 boundsMin;
+  uint link;
+  vec3 boundsMax;
+  uint triangleCount;
+};
+
+struct BvhPairNode {
+  BvhChild children[2];
+};
+
 HDOF_CONST uint kBvhStackSize = 64;
 
 HDOF_NAMESPACE_END
@@ -90,6 +108,9 @@ static_assert(sizeof(hdof::gpu::Light) == 52);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
 static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);
+static_assert(sizeof(hdof::gpu::BvhChild) == 32);
+static_assert(offsetof(hdof::gpu::BvhChild, boundsMax) == 16);
+static_assert(sizeof(hdof::gpu::BvhPairNode) == 64);
 #endif
 
 #endif
