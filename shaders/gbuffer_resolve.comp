@@ -29,10 +29,10 @@ void main() {
   }
   // Barycentrics of the pixel centre's ray on the plane of the triangle (Möller–Trumbore
   // without the inside test: the raster already decided coverage).
-  uint first = triangle * 3u;
-  vec3 a = vertices[indices[first]].position;
-  vec3 edge1 = vertices[indices[first + 1u]].position - a;
-  vec3 edge2 = vertices[indices[first + 2u]].position - a;
+  uvec4 corners = sceneTriangle(triangle);
+  vec3 a = vertexPosition(corners.x);
+  vec3 edge1 = vertexPosition(corners.y) - a;
+  vec3 edge2 = vertexPosition(corners.z) - a;
   vec3 direction = pinholeDirection(vec2(pixel) + 0.5);
   vec3 p = cross(direction, edge2);
   float det = dot(edge1, p);

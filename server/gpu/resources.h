@@ -56,6 +56,7 @@ using ImageHandle = DeviceObject<VkImage, vkDestroyImage>;
 using ImageView = DeviceObject<VkImageView, vkDestroyImageView>;
 using RenderPass = DeviceObject<VkRenderPass, vkDestroyRenderPass>;
 using Framebuffer = DeviceObject<VkFramebuffer, vkDestroyFramebuffer>;
+using BufferView = DeviceObject<VkBufferView, vkDestroyBufferView>;
 
 Fence createFence(const Context& context, bool signaled = false);
 

@@ -10,7 +10,6 @@
 namespace hdof {
 namespace {
 
-constexpr VkBufferUsageFlags kStorage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 // Resamples every texture to one square power-of-two size (sRGB-aware) with a full mip chain,
 // and uploads them as the layers of one array image.
@@ -77,6 +76,31 @@ gpu::Image uploadTextureArray(const gpu::Context& context, const std::vector<Tex
 
 // Uploads BVH data as a uniform texel buffer of RGBA32UI texels, the way lib/bvh_traverse.glsl
 // reads it.
+std::vector<gpu::PackedVertex> packVertices(const Scene& scene) {
+  std::vector<gpu::PackedVertex> packed;
+  packed.reserve(scene.vertices.size());
+  for (const gpu::Vertex& v : scene.vertices)
+    packed.push_back({v.position, v.uvPerMeter, v.uv, gpu::packNormal(v.normal), v.material});
+  return packed;
+}
+
+std::vector<glm::uvec4> packTriangles(const Scene& scene) {
+  std::vector<glm::uvec4> packed;
+  packed.reserve(scene.triangleCount());
+  for (size_t i = 0; i < scene.indices.size(); i += 3) {
+    uint32_t a = scene.indices[i];
+    packed.emplace_back(a, scene.indices[i + 1], scene.indices[i + 2], scene.vertices[a].material);
+  }
+  return packed;
+}
+
+std::vector<gpu::PackedMaterial> packMaterials(const Scene& scene) {
+  std::vector<gpu::PackedMaterial> packed;
+  for (const gpu::Material& m : scene.materials)
+    packed.push_back({m.baseColor, m.emissive, m.metallic, m.roughness, m.baseColorTexture, {}});
+  return packed;
+}
+
 template <typename T>
 gpu::Buffer uploadTexels(const gpu::Context& context, const std::vector<T>& items,
                          const std::string& name) {
@@ -100,33 +124,30 @@ auto createTexelView(const gpu::Context& context, const gpu::Buffer& buffer,
   VkBufferView view = VK_NULL_HANDLE;
   VK_CHECK(vkCreateBufferView(context.device(), &info, nullptr, &view));
   context.setName(VK_OBJECT_TYPE_BUFFER_VIEW, reinterpret_cast<uint64_t>(view), name);
-  return gpu::DeviceObject<VkBufferView, vkDestroyBufferView>(context.device(), view);
+  return gpu::BufferView(context.device(), view);
 }
 
 }  // namespace
 
-GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh)
-    : indexCount_(static_cast<uint32_t>(scene.indices.size())),
-      lightCount_(static_cast<uint32_t>(scene.lights.size())) {
+GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh) {
   if (scene.textures.size() > gpu::kMaxTextureLayers)
     throw SceneError("scene '" + scene.name + "' has " + std::to_string(scene.textures.size()) +
                      " textures; at most " + std::to_string(gpu::kMaxTextureLayers) +
                      " are supported");
-  vertices_ = gpu::createBufferWithData(context, std::span(scene.vertices), kStorage,
-                                        "scene vertices");
-  indices_ = gpu::createBufferWithData(context, std::span(scene.indices), kStorage, "scene indices");
+  vertices_ = uploadTexels(context, packVertices(scene), "scene vertices");
+  triangles_ = uploadTexels(context, packTriangles(scene), "scene triangles");
+  materials_ = uploadTexels(context, packMaterials(scene), "scene materials");
   std::vector<glm::vec3> corners;
   corners.reserve(scene.indices.size());
   for (uint32_t index : scene.indices) corners.push_back(scene.vertices[index].position);
   corners_ = gpu::createBufferWithData(context, std::span<const glm::vec3>(corners),
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
-  materials_ = gpu::createBufferWithData(context, std::span(scene.materials), kStorage,
-                                         "scene materials");
-  lights_ = gpu::createBufferWithData(context, std::span(scene.lights), kStorage, "scene lights");
+  lights_ = gpu::createBufferWithData(context, std::span(scene.lights),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "scene lights");
   bvhNodes_ = uploadTexels(context, packBvhPairNodes(bvh), "bvh nodes");
   bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
-  bvhNodeTexels_ = createTexelView(context, bvhNodes_, "bvh node texels");
-  bvhTriangleTexels_ = createTexelView(context, bvhTriangles_, "bvh triangle texels");
+  for (const gpu::Buffer* buffer : {&vertices_, &triangles_, &materials_, &bvhNodes_, &bvhTriangles_})
+    texelViews_.push_back(createTexelView(context, *buffer, "texels"));
 
   textures_ = uploadTextureArray(context, scene.textures);
 
@@ -143,13 +164,16 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
 
   constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kTexels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  setLayout_ = gpu::createSetLayout(
-      context,
-      {{kBuffer}, {kBuffer}, {kBuffer}, {kBuffer}, {kTexels}, {kTexels},
-       {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER}},
-      false, "scene set");
-  VkDescriptorPoolSize sizes[] = {
-      {kBuffer, 4}, {kTexels, 2}, {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1}};
+  constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  static_assert(gpu::kBindingVertices == 0 && gpu::kBindingTriangles == 1 &&
+                gpu::kBindingMaterials == 2 && gpu::kBindingLights == 3 &&
+                gpu::kBindingBvhNodes == 4 && gpu::kBindingBvhTriangles == 5 &&
+                gpu::kBindingTextures == 6);
+  setLayout_ = gpu::createSetLayout(context,
+                                    {{kTexels}, {kTexels}, {kTexels}, {kBuffer}, {kTexels},
+                                     {kTexels}, {kSampled}},
+                                    false, "scene set");
+  VkDescriptorPoolSize sizes[] = {{kBuffer, 1}, {kTexels, 5}, {kSampled, 1}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
   poolInfo.poolSizeCount = 3;
@@ -164,34 +188,31 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   allocInfo.pSetLayouts = &layout;
   VK_CHECK(vkAllocateDescriptorSets(context.device(), &allocInfo, &descriptorSet_));
 
-  const gpu::Buffer* buffers[] = {&vertices_, &indices_, &materials_, &lights_};
-  std::vector<VkDescriptorBufferInfo> bufferInfos;
-  for (const gpu::Buffer* b : buffers) bufferInfos.push_back(b->descriptor());
-  VkBufferView texelViews[] = {bvhNodeTexels_, bvhTriangleTexels_};
+  VkDescriptorBufferInfo lightInfo = lights_.descriptor();
   VkDescriptorImageInfo imageInfo{sampler_, textures_.view(),
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+  std::vector<VkBufferView> views;
+  for (const gpu::BufferView& view : texelViews_) views.push_back(view);
+  auto write = [&](uint32_t binding, VkDescriptorType type) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = descriptorSet_;
+    w.dstBinding = binding;
+    w.descriptorCount = 1;
+    w.descriptorType = type;
+    return w;
+  };
   std::vector<VkWriteDescriptorSet> writes;
-  for (uint32_t i = 0; i < gpu::kBindingTextures; ++i) {
-    VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    write.dstSet = descriptorSet_;
-    write.dstBinding = i;
-    write.descriptorCount = 1;
-    if (i < gpu::kBindingBvhNodes) {
-      write.descriptorType = kBuffer;
-      write.pBufferInfo = &bufferInfos[i];
-    } else {
-      write.descriptorType = kTexels;
-      write.pTexelBufferView = &texelViews[i - gpu::kBindingBvhNodes];
-    }
-    writes.push_back(write);
+  const uint32_t texelBindings[] = {gpu::kBindingVertices, gpu::kBindingTriangles,
+                                    gpu::kBindingMaterials, gpu::kBindingBvhNodes,
+                                    gpu::kBindingBvhTriangles};
+  for (size_t i = 0; i < views.size(); ++i) {
+    writes.push_back(write(texelBindings[i], kTexels));
+    writes.back().pTexelBufferView = &views[i];
   }
-  VkWriteDescriptorSet textureWrite{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  textureWrite.dstSet = descriptorSet_;
-  textureWrite.dstBinding = gpu::kBindingTextures;
-  textureWrite.descriptorCount = 1;
-  textureWrite.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  textureWrite.pImageInfo = &imageInfo;
-  writes.push_back(textureWrite);
+  writes.push_back(write(gpu::kBindingLights, kBuffer));
+  writes.back().pBufferInfo = &lightInfo;
+  writes.push_back(write(gpu::kBindingTextures, kSampled));
+  writes.back().pImageInfo = &imageInfo;
   vkUpdateDescriptorSets(context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,
                          nullptr);
 }

@@ -18,21 +18,16 @@ class GpuScene {
   void bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint, VkPipelineLayout layout) const;
   // Every triangle's corner positions in order (three vec3 per triangle), for the raster.
   const gpu::Buffer& cornerBuffer() const { return corners_; }
-  uint32_t cornerCount() const { return indexCount_; }
-  uint32_t lightCount() const { return lightCount_; }
 
  private:
-  using BufferView = gpu::DeviceObject<VkBufferView, vkDestroyBufferView>;
-
-  gpu::Buffer vertices_, indices_, corners_, materials_, lights_, bvhNodes_, bvhTriangles_;
-  BufferView bvhNodeTexels_, bvhTriangleTexels_;  // what the traversal reads (see scene_data.h)
+  gpu::Buffer vertices_, triangles_, materials_, bvhNodes_, bvhTriangles_;  // texel rows
+  std::vector<gpu::BufferView> texelViews_;  // of the five above, in that order
+  gpu::Buffer corners_, lights_;
   gpu::Image textures_;  // a 2D array, one layer per scene texture
   gpu::Sampler sampler_;
   gpu::DescriptorSetLayout setLayout_;
   gpu::DescriptorPool pool_;
   VkDescriptorSet descriptorSet_ = VK_NULL_HANDLE;
-  uint32_t indexCount_ = 0;
-  uint32_t lightCount_ = 0;
 };
 
 }  // namespace hdof

@@ -4,11 +4,43 @@
 #extension GL_EXT_scalar_block_layout : require
 #include "shared/scene_data.h"
 
-layout(set = 0, binding = kBindingVertices, scalar) readonly buffer Vertices { Vertex vertices[]; };
-layout(set = 0, binding = kBindingIndices, scalar) readonly buffer Indices { uint indices[]; };
-layout(set = 0, binding = kBindingMaterials, scalar) readonly buffer Materials { Material materials[]; };
+layout(set = 0, binding = kBindingVertices) uniform usamplerBuffer vertexTexels;
+layout(set = 0, binding = kBindingTriangles) uniform usamplerBuffer triangleTexels;
+layout(set = 0, binding = kBindingMaterials) uniform usamplerBuffer materialTexels;
 layout(set = 0, binding = kBindingLights, scalar) readonly buffer Lights { Light lights[]; };
-// The BVH bindings are declared by lib/bvh_traverse.glsl, which reads them as aligned rows.
+// The BVH bindings are declared by lib/bvh_traverse.glsl, which alone reads them.
+
+// The three vertices (xyz) and the material (w) of an index-buffer triangle.
+uvec4 sceneTriangle(uint triangle) { return texelFetch(triangleTexels, int(triangle)); }
+
+vec3 vertexPosition(uint vertex) {
+  return uintBitsToFloat(texelFetch(vertexTexels, int(vertex * 2u)).xyz);
+}
+
+Vertex sceneVertex(uint vertex) {
+  uvec4 row0 = texelFetch(vertexTexels, int(vertex * 2u));
+  uvec4 row1 = texelFetch(vertexTexels, int(vertex * 2u + 1u));
+  Vertex v;
+  v.position = uintBitsToFloat(row0.xyz);
+  v.uvPerMeter = uintBitsToFloat(row0.w);
+  v.uv = uintBitsToFloat(row1.xy);
+  v.normal = unpackNormal(row1.z);
+  v.material = row1.w;
+  return v;
+}
+
+Material sceneMaterial(uint material) {
+  uvec4 row0 = texelFetch(materialTexels, int(material * 3u));
+  uvec4 row1 = texelFetch(materialTexels, int(material * 3u + 1u));
+  uvec4 row2 = texelFetch(materialTexels, int(material * 3u + 2u));
+  Material m;
+  m.baseColor = uintBitsToFloat(row0);
+  m.emissive = uintBitsToFloat(row1.xyz);
+  m.metallic = uintBitsToFloat(row1.w);
+  m.roughness = uintBitsToFloat(row2.x);
+  m.baseColorTexture = row2.y;
+  return m;
+}
 layout(set = 0, binding = kBindingTextures) uniform sampler2DArray textures;
 
 #endif

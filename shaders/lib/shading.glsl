@@ -17,17 +17,17 @@ struct SurfacePoint {
 
 // The surface point at barycentrics (weights of vertices 1 and 2) of an index-buffer triangle.
 SurfacePoint surfaceOfTriangle(uint triangle, vec2 barycentrics) {
-  uint first = triangle * 3u;
-  Vertex a = vertices[indices[first]];
-  Vertex b = vertices[indices[first + 1u]];
-  Vertex c = vertices[indices[first + 2u]];
+  uvec4 corners = sceneTriangle(triangle);
+  Vertex a = sceneVertex(corners.x);
+  Vertex b = sceneVertex(corners.y);
+  Vertex c = sceneVertex(corners.z);
   vec3 w = vec3(1.0 - barycentrics.x - barycentrics.y, barycentrics);
   SurfacePoint s;
   s.position = a.position * w.x + b.position * w.y + c.position * w.z;
   s.normal = a.normal * w.x + b.normal * w.y + c.normal * w.z;
   s.uv = a.uv * w.x + b.uv * w.y + c.uv * w.z;
   s.uvPerMeter = a.uvPerMeter * w.x + b.uvPerMeter * w.y + c.uvPerMeter * w.z;
-  s.material = a.material;
+  s.material = corners.w;
   return s;
 }
 
@@ -54,7 +54,7 @@ float smithVisibility(float nDotV, float nDotL, float alpha) {
 // pixel at the point (distance from the camera times pixelAngle()). Returns the radiance towards
 // the viewer; `specular` receives its specular part (for bokeh decisions in the composite).
 vec3 shadeSurface(SurfacePoint s, vec3 toViewer, float footprint, out vec3 specular) {
-  Material m = materials[s.material];
+  Material m = sceneMaterial(s.material);
   vec3 n = normalize(s.normal);
   float nDotV = dot(n, toViewer);
   if (nDotV < 0.0) {  // all surfaces are double-sided

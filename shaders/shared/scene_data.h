@@ -1,6 +1,8 @@
-// Scene data as the GPU sees it: one world-space vertex/index soup for the raster pass, the same
-// triangles in BVH leaf order for traversal, materials, punctual lights. Storage buffers use the
-// scalar block layout, so these structs need no hand padding; the C++ side asserts the layout.
+// Scene data as the GPU sees it: one world-space vertex/index soup, the same triangles in BVH
+// leaf order for traversal, materials, punctual lights. What shaders read per pixel or per ray
+// (vertices, triangles, materials, the BVH) lives in RGBA32UI uniform texel buffers as rows of
+// 16 bytes: one typed load per row, through the texture cache on GPUs, and a vector gather on
+// lavapipe (which loops over the lanes for storage-buffer loads). The C++ side asserts layouts.
 #ifndef HDOF_SHARED_SCENE_DATA_H
 #define HDOF_SHARED_SCENE_DATA_H
 #include "types.h"
@@ -9,10 +11,10 @@ HDOF_NAMESPACE_BEGIN
 
 // Descriptor set 0: the scene, shared by every pass and session.
 HDOF_CONST uint kSceneSet = 0;
-HDOF_CONST uint kBindingVertices = 0;
-HDOF_CONST uint kBindingIndices = 1;
-HDOF_CONST uint kBindingMaterials = 2;
-HDOF_CONST uint kBindingLights = 3;
+HDOF_CONST uint kBindingVertices = 0;  // PackedVertex rows
+HDOF_CONST uint kBindingTriangles = 1;  // uvec4 per triangle: its three vertices and material
+HDOF_CONST uint kBindingMaterials = 2;  // PackedMaterial rows
+HDOF_CONST uint kBindingLights = 3;  // Light, a storage buffer (scalar layout)
 HDOF_CONST uint kBindingBvhNodes = 4;  // BvhPairNode, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingBvhTriangles = 5;  // BvhTriangle, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingTextures = 6;  // one 2D array texture, a layer per scene texture
@@ -33,6 +35,15 @@ struct Vertex {
   vec2 uv;
 };
 
+// A vertex as the shaders read it: two rows, the normal in octahedral form (2 x snorm16).
+struct PackedVertex {
+  vec3 position;
+  float uvPerMeter;
+  vec2 uv;
+  uint normal;  // packNormal()
+  uint material;
+};
+
 struct Material {
   vec4 baseColor;  // linear RGB, alpha unused (all opaque)
   vec3 emissive;  // linear RGB radiance
@@ -44,6 +55,35 @@ struct Material {
 HDOF_CONST uint kLightDirectional = 0;
 HDOF_CONST uint kLightPoint = 1;
 HDOF_CONST uint kLightSpot = 2;
+
+// A material as the shaders read it: three rows.
+struct PackedMaterial {
+  vec4 baseColor;
+  vec3 emissive;
+  float metallic;
+  float roughness;
+  uint baseColorTexture;
+  uint unused[2];  // rows are 16 bytes
+};
+
+// Octahedral unit-vector encoding (Cigolle et al. 2014), as two snorm16 in one uint.
+HDOF_FN vec2 octahedralSign(vec2 v) {
+  return vec2(v.x >= 0.0f ? 1.0f : -1.0f, v.y >= 0.0f ? 1.0f : -1.0f);
+}
+#ifdef __cplusplus
+inline uint packNormal(vec3 n) {
+  vec2 p = vec2(n.x, n.y) / (abs(n.x) + abs(n.y) + abs(n.z));
+  if (n.z < 0.0f) p = (vec2(1.0f) - abs(vec2(p.y, p.x))) * octahedralSign(p);
+  return glm::packSnorm2x16(p);
+}
+#else
+vec3 unpackNormal(uint bits) {
+  vec2 p = unpackSnorm2x16(bits);
+  vec3 n = vec3(p, 1.0 - abs(p.x) - abs(p.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * octahedralSign(n.xy);
+  return normalize(n);
+}
+#endif
 
 struct Light {
   vec3 position;  // point, spot
@@ -104,6 +144,11 @@ static_assert(sizeof(hdof::gpu::Vertex) == 40);
 static_assert(offsetof(hdof::gpu::Vertex, normal) == 16);
 static_assert(offsetof(hdof::gpu::Vertex, uv) == 32);
 static_assert(sizeof(hdof::gpu::Material) == 40);
+static_assert(sizeof(hdof::gpu::PackedVertex) == 32);
+static_assert(offsetof(hdof::gpu::PackedVertex, uv) == 16);
+static_assert(sizeof(hdof::gpu::PackedMaterial) == 48);
+static_assert(offsetof(hdof::gpu::PackedMaterial, emissive) == 16);
+static_assert(offsetof(hdof::gpu::PackedMaterial, roughness) == 32);
 static_assert(sizeof(hdof::gpu::Light) == 52);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);

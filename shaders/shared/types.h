@@ -6,6 +6,7 @@
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <glm/gtc/packing.hpp>
 namespace hdof::gpu {
 using vec2 = glm::vec2;
 using vec3 = glm::vec3;
