@@ -7,7 +7,9 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <exception>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,11 @@ void printUsage(FILE* out) {
 int main(int argc, char** argv) {
   // The Vulkan loader complains on stderr when headless without a runtime directory.
   setenv("XDG_RUNTIME_DIR", "/tmp", 0);
+  // Mesa's software device splits each dispatch over this many threads (default: one per core).
+  // Rays cost unevenly, so twice the cores keeps every core busy to the end of a dispatch
+  // (10-25% faster ray tracing measured here). GPU drivers ignore it; a set value wins.
+  std::string threads = std::to_string(2 * std::max(1u, std::thread::hardware_concurrency()));
+  setenv("LP_NUM_THREADS", threads.c_str(), 0);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     printUsage(stdout);
