@@ -67,8 +67,8 @@ bool ArgParser::parse(std::span<const std::string> args) {
       for (Option& o : options_)
         if (o.name == name) found = &o;
       if (!found)
-        throw UsageError("unknown option " + name + " for 'hdof " + command_ +
-                         "' (see hdof " + command_ + " --help)");
+        throw UsageError("unknown option " + name + " for 'hdof " + command_ + "' (see hdof " +
+                         command_ + " --help)");
       if (found->isFlag) {
         if (hasInlineValue) throw UsageError("option " + name + " takes no value");
       } else if (!hasInlineValue) {
@@ -81,14 +81,14 @@ bool ArgParser::parse(std::span<const std::string> args) {
       continue;
     }
     if (nextPositional >= positionals_.size())
-      throw UsageError("unexpected argument '" + arg + "' for 'hdof " + command_ +
-                       "' (see hdof " + command_ + " --help)");
+      throw UsageError("unexpected argument '" + arg + "' for 'hdof " + command_ + "' (see hdof " +
+                       command_ + " --help)");
     *positionals_[nextPositional++].out = arg;
   }
   for (size_t p = nextPositional; p < positionals_.size(); ++p)
     if (positionals_[p].required)
-      throw UsageError("'hdof " + command_ + "' needs " + positionals_[p].name +
-                       " (see hdof " + command_ + " --help)");
+      throw UsageError("'hdof " + command_ + "' needs " + positionals_[p].name + " (see hdof " +
+                       command_ + " --help)");
   return true;
 }
 
@@ -131,15 +131,16 @@ uint32_t parseCount(const std::string& text, const std::string& what) {
   errno = 0;
   char* end = nullptr;
   unsigned long long value = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) || end != text.c_str() + text.size() || errno == ERANGE ||
-      value > 0xffffffffull)
+  if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])) ||
+      end != text.c_str() + text.size() || errno == ERANGE || value > 0xffffffffull)
     throw UsageError(what + ": '" + text + "' is not a whole number from 0 to 4294967295");
   return static_cast<uint32_t>(value);
 }
 
 Size2 parseSize(const std::string& text, uint32_t maxSide) {
   auto x = text.find('x');
-  if (x == std::string::npos) throw UsageError("size '" + text + "' is not WIDTHxHEIGHT, e.g. 640x360");
+  if (x == std::string::npos)
+    throw UsageError("size '" + text + "' is not WIDTHxHEIGHT, e.g. 640x360");
   Size2 size;
   try {
     size.width = parseCount(text.substr(0, x), "width");

@@ -55,10 +55,9 @@ int runBench(std::span<const std::string> args) {
   double visibilityMs = measure(RenderMode::Pinhole, {"visibility"});
   double resolveMs = measure(RenderMode::Pinhole, {"gbuffer"});
   double gbufferMs = measure(RenderMode::Pinhole, {"visibility", "gbuffer"});
-  double postProcessMs = measure(RenderMode::PostProcess, {"dof_downsample", "dof_tiles",
-                                                           "dof_dilate", "dof_prefilter",
-                                                           "dof_gather", "dof_median",
-                                                           "dof_composite"});
+  double postProcessMs = measure(RenderMode::PostProcess,
+                                 {"dof_downsample", "dof_tiles", "dof_dilate", "dof_prefilter",
+                                  "dof_gather", "dof_median", "dof_composite"});
   double postProcessFrameWallMs = median(wallMs);
   request.settings.samplesPerPixel = 1;
   double referenceMs = measure(RenderMode::Reference, {"reference"});
@@ -73,7 +72,8 @@ int runBench(std::span<const std::string> args) {
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
-        loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs, mraysPerSecond, frames);
+        loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
+        mraysPerSecond, frames);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -85,8 +85,9 @@ int runBench(std::span<const std::string> args) {
               gbufferMs, visibilityMs, resolveMs, frames);
   std::printf("postprocess_dof_ms=%.2f postprocess_frame_wall_ms=%.2f (medians)\n", postProcessMs,
               postProcessFrameWallMs);
-  std::printf("reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
-              referenceMs, mraysPerSecond, frames);
+  std::printf(
+      "reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
+      referenceMs, mraysPerSecond, frames);
   return 0;
 }
 

@@ -64,9 +64,10 @@ int runQuality(std::span<const std::string> args) {
                 &referenceOptions.fixedRays);
   parser.option("--max-reference-spp", "N", "most reference rays per pixel (default 1024)",
                 &referenceOptions.maxRays);
-  parser.option("--converged-db", "DB",
-                "PSNR between the reference at N and N/2 rays that counts as converged (default 42)",
-                &referenceOptions.targetDb);
+  parser.option(
+      "--converged-db", "DB",
+      "PSNR between the reference at N and N/2 rays that counts as converged (default 42)",
+      &referenceOptions.targetDb);
   parser.flag("--json", "print the results as one JSON object", &json);
   if (!parser.parse(args)) return 0;
   Size2 imageSize = parseSize(size, 4096);
@@ -80,15 +81,17 @@ int runQuality(std::span<const std::string> args) {
   FrameRequest& request = setup.request;
   FramePipeline& pipeline = setup.pipeline;
   std::filesystem::create_directories(outDir);
-  auto outPath = [&](const std::string& name) { return (std::filesystem::path(outDir) / name).string(); };
+  auto outPath = [&](const std::string& name) {
+    return (std::filesystem::path(outDir) / name).string();
+  };
 
   // The partial-occlusion region from the pinhole depth.
   request.mode = RenderMode::Pinhole;
   pipeline.render(request);
   CocParameters coc{request.lens.apertureDiameter(), request.lens.focusDistance,
                     focalLengthPixels(request.camera, imageSize.width, imageSize.height)};
-  std::vector<uint8_t> region = occlusionMask(pipeline.linearDepth(), imageSize.width,
-                                              imageSize.height, coc);
+  std::vector<uint8_t> region =
+      occlusionMask(pipeline.linearDepth(), imageSize.width, imageSize.height, coc);
   ImageRgba8 regionImage = maskImage(region, imageSize.width, imageSize.height);
   writeImage(outPath("occlusion-mask.png"), regionImage);
   bool hasRegion = maskCount(region) > 0;
@@ -149,7 +152,9 @@ int runQuality(std::span<const std::string> args) {
     out["f_number"] = request.lens.fNumber;
     out["focal_length_mm"] = request.lens.focalLengthMm;
     for (const Row& r : rows) {
-      auto db = [](double v) { return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+      auto db = [](double v) {
+        return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v);
+      };
       out["modes"].push_back({{"mode", r.label},
                               {"rays_per_pixel", r.raysPerPixel},
                               {"frames", r.frames},

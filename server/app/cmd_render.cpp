@@ -48,7 +48,8 @@ int runRender(std::span<const std::string> args) {
   bool noJitter = false;
   ArgParser parser(
       "render", "--out FILE.png|FILE.jpg [options]",
-      "Renders a still image or a sequence. 'pinhole' is the sharp raster image; 'raytrace' traces\n"
+      "Renders a still image or a sequence. 'pinhole' is the sharp raster image; 'raytrace' "
+      "traces\n"
       "--spp thin-lens rays per pixel each frame and accumulates them while the view is still;\n"
       "'reference' traces --spp rays per pixel for every frame, the ground truth.\n"
       "With --frames N the camera follows --camera-path (keyframes in JSON, see docs) and --out\n"
@@ -105,9 +106,10 @@ int runRender(std::span<const std::string> args) {
     request.settings.frameIndex = frame;
     uint64_t done = uint64_t(frame) * (request.mode == RenderMode::Reference ? spp : 1);
     if (request.mode == RenderMode::Reference)
-      gpuMs += pipeline.renderReference(request, spp, [&](uint32_t rays) {
-                 progress.update(done + rays);
-               }).gpuMs;
+      gpuMs +=
+          pipeline
+              .renderReference(request, spp, [&](uint32_t rays) { progress.update(done + rays); })
+              .gpuMs;
     else
       gpuMs += pipeline.render(request).gpuMs;
     progress.update(done + 1);
@@ -116,7 +118,8 @@ int runRender(std::span<const std::string> args) {
   std::string written = isPattern(out) ? frameFileName(out, frames - 1) : out;
   if (!isPattern(out)) writeFrame(out, pipeline.image());
   if (sceneOptions.verbose)
-    std::fprintf(stderr, "%s %ux%u, %u frame(s): %.1f ms on the GPU, focus %.2f m, f/%.3g at %.0f mm\n",
+    std::fprintf(stderr,
+                 "%s %ux%u, %u frame(s): %.1f ms on the GPU, focus %.2f m, f/%.3g at %.0f mm\n",
                  modeName(request.mode), imageSize.width, imageSize.height, frames, gpuMs,
                  request.lens.focusDistance, request.lens.fNumber, request.lens.focalLengthMm);
   std::printf("%s\n", std::filesystem::absolute(written).c_str());

@@ -5,12 +5,12 @@
 #include "image/image.h"
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <algorithm>
 #include <exception>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {

@@ -18,8 +18,7 @@ Progress::~Progress() {
 
 void Progress::update(uint64_t done) {
   if (!terminal_) return;
-  double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   if (elapsed < 1.0) return;
   shown_ = true;
   double fraction = static_cast<double>(done) / static_cast<double>(total_);

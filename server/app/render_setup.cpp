@@ -23,7 +23,8 @@ void addSceneOptions(ArgParser& parser, SceneOptions& options) {
 void addLensOptions(ArgParser& parser, LensOptions& options) {
   parser.option("--focal-length", "MM", "lens focal length in millimetres (default 50)",
                 &options.focalLengthMm);
-  parser.option("--f-number", "N", "aperture f-number, at least 0.5 (default 2.8; 1e6 is a pinhole)",
+  parser.option("--f-number", "N",
+                "aperture f-number, at least 0.5 (default 2.8; 1e6 is a pinhole)",
                 &options.fNumber);
   parser.option("--focus-distance", "M",
                 "focus distance in metres (default: the camera's, else the surface at the centre)",
@@ -56,7 +57,8 @@ Camera resolveCamera(const Scene& scene, const std::string& name) {
 
 Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera) {
   if (!(options.fNumber >= 0.5f))
-    throw UsageError("--f-number must be at least 0.5 (got " + std::to_string(options.fNumber) + ")");
+    throw UsageError("--f-number must be at least 0.5 (got " + std::to_string(options.fNumber) +
+                     ")");
   if (!(options.focalLengthMm > 0.0f && options.focalLengthMm <= 5000.0f))
     throw UsageError("--focal-length must be more than 0 and at most 5000 mm");
   if (options.focusDistance < 0.0f || options.focusDistance > 1e5f)
@@ -92,8 +94,10 @@ gpu::ContextOptions contextOptions(const SceneOptions& options) {
 RenderSetup::RenderSetup(const SceneOptions& sceneOptions, const LensOptions& lensOptions,
                          Size2 size)
     : loaded(loadSceneWithBvh(sceneOptions)),
-      request{RenderMode::Pinhole, resolveCamera(loaded.scene, sceneOptions.camera),
-              resolveLens(lensOptions, loaded, sceneOptions.camera), {size.width, size.height}},
+      request{RenderMode::Pinhole,
+              resolveCamera(loaded.scene, sceneOptions.camera),
+              resolveLens(lensOptions, loaded, sceneOptions.camera),
+              {size.width, size.height}},
       context(contextOptions(sceneOptions)),
       gpuScene(context, loaded.scene, loaded.bvh),
       pipeline(context, loaded.scene, gpuScene, size.width, size.height) {}

@@ -6,8 +6,8 @@
 #include "app/cli.h"
 #include "gpu/context.h"
 #include "render/frame_pipeline.h"
-#include "scene/gpu_scene.h"
 #include "scene/bvh.h"
+#include "scene/gpu_scene.h"
 #include "scene/scene.h"
 
 #include <string>

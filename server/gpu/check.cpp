@@ -4,11 +4,13 @@
 
 namespace hdof {
 
-VulkanError::VulkanError(VkResult r, const std::string& what) : std::runtime_error(what), result(r) {}
+VulkanError::VulkanError(VkResult r, const std::string& what)
+    : std::runtime_error(what), result(r) {}
 
 const char* resultName(VkResult result) {
 #define HDOF_RESULT_NAME(r) \
-  case r: return #r;
+  case r:                   \
+    return #r;
   switch (result) {
     HDOF_RESULT_NAME(VK_SUCCESS)
     HDOF_RESULT_NAME(VK_NOT_READY)
@@ -31,7 +33,8 @@ const char* resultName(VkResult result) {
     HDOF_RESULT_NAME(VK_ERROR_FRAGMENTATION)
     HDOF_RESULT_NAME(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
     HDOF_RESULT_NAME(VK_ERROR_UNKNOWN)
-    default: return "VK_ERROR_(unnamed)";
+    default:
+      return "VK_ERROR_(unnamed)";
   }
 #undef HDOF_RESULT_NAME
 }

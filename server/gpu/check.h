@@ -29,9 +29,8 @@ const char* resultName(VkResult result);
 
 }  // namespace hdof
 
-#define VK_CHECK(call)                                                          \
-  do {                                                                          \
-    VkResult vkCheckResult_ = (call);                                           \
-    if (vkCheckResult_ < 0)                                                     \
-      ::hdof::throwVulkanError(vkCheckResult_, #call, __FILE__, __LINE__);      \
+#define VK_CHECK(call)                                                                           \
+  do {                                                                                           \
+    VkResult vkCheckResult_ = (call);                                                            \
+    if (vkCheckResult_ < 0) ::hdof::throwVulkanError(vkCheckResult_, #call, __FILE__, __LINE__); \
   } while (0)

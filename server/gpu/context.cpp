@@ -19,21 +19,31 @@ struct Candidate {
 
 int typeRank(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-    default: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return 3;
+    default:
+      return 4;
   }
 }
 
 const char* typeName(VkPhysicalDeviceType type) {
   switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual GPU";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "CPU";
+    default:
+      return "other";
   }
 }
 
@@ -42,8 +52,9 @@ bool hasLayer(const char* name) {
   vkEnumerateInstanceLayerProperties(&count, nullptr);
   std::vector<VkLayerProperties> layers(count);
   vkEnumerateInstanceLayerProperties(&count, layers.data());
-  return std::any_of(layers.begin(), layers.end(),
-                     [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, name) == 0; });
+  return std::any_of(layers.begin(), layers.end(), [&](const VkLayerProperties& l) {
+    return std::strcmp(l.layerName, name) == 0;
+  });
 }
 
 bool hasInstanceExtension(const char* name) {
@@ -93,7 +104,8 @@ std::string checkDevice(VkPhysicalDevice device, const VkPhysicalDevicePropertie
     if (!present) return std::string("lacks the extension ") + required;
   }
 
-  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan12Features features12{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
   vkGetPhysicalDeviceFeatures2(device, &features);
   if (!features12.scalarBlockLayout) return "lacks the scalarBlockLayout feature";
@@ -136,7 +148,8 @@ Context::Context(const ContextOptions& options) {
   if (validation) {
     auto createMessenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
-    VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    VkDebugUtilsMessengerCreateInfoEXT info{
+        VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
     info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT;
@@ -154,7 +167,8 @@ Context::Context(const ContextOptions& options) {
   if (devices.empty()) {
     vkDestroyInstance(instance_, nullptr);
     throw NoVulkanError(
-        "no Vulkan device found: install a driver (on Debian: apt-get install mesa-vulkan-drivers)");
+        "no Vulkan device found: install a driver (on Debian: apt-get install "
+        "mesa-vulkan-drivers)");
   }
   std::vector<Candidate> candidates;
   for (VkPhysicalDevice d : devices) {
@@ -174,9 +188,10 @@ Context::Context(const ContextOptions& options) {
   if (!options.device.empty()) {
     bool isIndex = std::all_of(options.device.begin(), options.device.end(), ::isdigit);
     for (size_t i = 0; i < candidates.size() && !chosen; ++i) {
-      bool match = isIndex ? std::to_string(i) == options.device
-                           : std::string(candidates[i].properties.deviceName)
-                                     .find(options.device) != std::string::npos;
+      bool match = isIndex
+                       ? std::to_string(i) == options.device
+                       : std::string(candidates[i].properties.deviceName).find(options.device) !=
+                             std::string::npos;
       if (match) chosen = &candidates[i];
     }
     if (!chosen) {
@@ -199,9 +214,9 @@ Context::Context(const ContextOptions& options) {
           (!chosen || typeRank(c.properties.deviceType) < typeRank(chosen->properties.deviceType)))
         chosen = &c;
     if (!chosen) {
-      std::string message = "no usable Vulkan device: " + std::string(candidates[0].properties.deviceName) +
-                            " " + candidates[0].rejection +
-                            " (on Debian: apt-get install mesa-vulkan-drivers)";
+      std::string message =
+          "no usable Vulkan device: " + std::string(candidates[0].properties.deviceName) + " " +
+          candidates[0].rejection + " (on Debian: apt-get install mesa-vulkan-drivers)";
       vkDestroyInstance(instance_, nullptr);
       throw NoVulkanError(message);
     }
@@ -219,15 +234,16 @@ Context::Context(const ContextOptions& options) {
   vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, nullptr);
   std::vector<VkQueueFamilyProperties> families(familyCount);
   vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, families.data());
-  timestampsSupported_ = families[queueFamily_].timestampValidBits > 0 &&
-                         properties_.limits.timestampPeriod > 0.0f;
+  timestampsSupported_ =
+      families[queueFamily_].timestampValidBits > 0 && properties_.limits.timestampPeriod > 0.0f;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queueInfo.queueFamilyIndex = queueFamily_;
   queueInfo.queueCount = 1;
   queueInfo.pQueuePriorities = &priority;
-  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan12Features features12{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   features12.scalarBlockLayout = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
   features.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
@@ -305,7 +321,8 @@ uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags requir
     if ((flags & preferred) == preferred) return i;
     if (fallback == UINT32_MAX) fallback = i;
   }
-  if (fallback == UINT32_MAX) throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "no suitable memory type");
+  if (fallback == UINT32_MAX)
+    throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY, "no suitable memory type");
   return fallback;
 }
 

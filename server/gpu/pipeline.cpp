@@ -24,8 +24,8 @@ DescriptorSetLayout createSetLayout(const Context& context,
                                     bool pushDescriptors, const std::string& name) {
   std::vector<VkDescriptorSetLayoutBinding> vkBindings;
   for (const LayoutBinding& b : bindings)
-    vkBindings.push_back({static_cast<uint32_t>(vkBindings.size()), b.type, b.count, kAllStages,
-                          nullptr});
+    vkBindings.push_back(
+        {static_cast<uint32_t>(vkBindings.size()), b.type, b.count, kAllStages, nullptr});
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   if (pushDescriptors) info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   info.bindingCount = static_cast<uint32_t>(vkBindings.size());
@@ -65,8 +65,8 @@ ComputePipeline createComputePipeline(const Context& context, const std::string&
     emptySceneLayout = createSetLayout(context, {}, false, "empty scene set");
     sceneSetLayout = emptySceneLayout;
   }
-  result.layout = createPipelineLayout(context, {sceneSetLayout, result.passSetLayout},
-                                       pushConstantSize);
+  result.layout =
+      createPipelineLayout(context, {sceneSetLayout, result.passSetLayout}, pushConstantSize);
   ShaderModule module = createShaderModule(context, shaderName);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -75,7 +75,8 @@ ComputePipeline createComputePipeline(const Context& context, const std::string&
   info.stage.pName = "main";
   info.layout = result.layout;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  VK_CHECK(
+      vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), shaderName);
   result.pipeline = Pipeline(context.device(), pipeline);
   return result;
@@ -102,15 +103,15 @@ DescriptorWriter& DescriptorWriter::storageBuffer(uint32_t binding, const Buffer
 }
 
 DescriptorWriter& DescriptorWriter::storageImage(uint32_t binding, const Image& image) {
-  add(binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE).pImageInfo =
-      &images_.emplace_back(VkDescriptorImageInfo{VK_NULL_HANDLE, image.view(), VK_IMAGE_LAYOUT_GENERAL});
+  add(binding, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE).pImageInfo = &images_.emplace_back(
+      VkDescriptorImageInfo{VK_NULL_HANDLE, image.view(), VK_IMAGE_LAYOUT_GENERAL});
   return *this;
 }
 
 DescriptorWriter& DescriptorWriter::sampledImage(uint32_t binding, const Image& image,
                                                  VkSampler sampler) {
-  add(binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER).pImageInfo = &images_.emplace_back(
-      VkDescriptorImageInfo{sampler, image.view(), VK_IMAGE_LAYOUT_GENERAL});
+  add(binding, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER).pImageInfo =
+      &images_.emplace_back(VkDescriptorImageInfo{sampler, image.view(), VK_IMAGE_LAYOUT_GENERAL});
   return *this;
 }
 
@@ -127,9 +128,10 @@ void dispatchCompute(const Context& context, VkCommandBuffer cmd, const ComputeP
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
   passDescriptors.push(context, cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout, kPassSet);
   if (pipeline.pushConstantSize)
-    vkCmdPushConstants(cmd, pipeline.layout, VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
-                           VK_SHADER_STAGE_FRAGMENT_BIT,
-                       0, pipeline.pushConstantSize, pushConstants);
+    vkCmdPushConstants(
+        cmd, pipeline.layout,
+        VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+        pipeline.pushConstantSize, pushConstants);
   vkCmdDispatch(cmd, (width + groupSize - 1) / groupSize, (height + groupSize - 1) / groupSize, 1);
 }
 

@@ -39,7 +39,9 @@ Buffer::Buffer(const Context& context, VkDeviceSize size, VkBufferUsageFlags usa
   vkGetBufferMemoryRequirements(context.device(), buffer, &requirements);
   VkMemoryPropertyFlags required = 0, preferred = 0;
   switch (use) {
-    case MemoryUse::DeviceOnly: preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT; break;
+    case MemoryUse::DeviceOnly:
+      preferred = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+      break;
     case MemoryUse::Upload:
       required = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
       break;
@@ -95,7 +97,8 @@ Image::Image(const Context& context, const ImageDesc& desc, const std::string& n
 
   VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   viewInfo.image = image;
-  viewInfo.viewType = desc.layers > 1 || desc.arrayView ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
+  viewInfo.viewType =
+      desc.layers > 1 || desc.arrayView ? VK_IMAGE_VIEW_TYPE_2D_ARRAY : VK_IMAGE_VIEW_TYPE_2D;
   viewInfo.format = desc.format;
   viewInfo.subresourceRange = {desc.aspect, 0, desc.mipLevels, 0, desc.layers};
   VkImageView view = VK_NULL_HANDLE;

@@ -62,8 +62,8 @@ Fence createFence(const Context& context, bool signaled = false);
 
 enum class MemoryUse {
   DeviceOnly,  // GPU reads and writes
-  Upload,  // the CPU writes through a persistent mapping, the GPU reads
-  Readback,  // the GPU writes, the CPU reads through a persistent mapping
+  Upload,      // the CPU writes through a persistent mapping, the GPU reads
+  Readback,    // the GPU writes, the CPU reads through a persistent mapping
 };
 
 class Buffer {

@@ -7,17 +7,16 @@
 
 namespace hdof {
 
-std::vector<uint8_t> occlusionMask(const std::vector<float>& depth, uint32_t width,
-                                   uint32_t height, const CocParameters& coc,
-                                   const OcclusionMaskOptions& options) {
+std::vector<uint8_t> occlusionMask(const std::vector<float>& depth, uint32_t width, uint32_t height,
+                                   const CocParameters& coc, const OcclusionMaskOptions& options) {
   std::vector<uint8_t> mask(size_t(width) * height, 0);
   auto at = [&](int x, int y) { return depth[size_t(y) * width + x]; };
   const int offsets[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   for (int y = 0; y < int(height); ++y) {
     for (int x = 0; x < int(width); ++x) {
       float z = at(x, y);
-      float c = gpu::signedCocPixels(z, coc.apertureDiameter, coc.focusDistance,
-                                     coc.focalLengthPixels);
+      float c =
+          gpu::signedCocPixels(z, coc.apertureDiameter, coc.focusDistance, coc.focalLengthPixels);
       if (c > -std::sqrt(2.0f)) continue;  // not a near-field, out-of-focus pixel
       bool edge = false;
       for (const auto& o : offsets) {

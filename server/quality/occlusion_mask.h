@@ -11,12 +11,12 @@ namespace hdof {
 
 struct CocParameters {
   float apertureDiameter;  // metres
-  float focusDistance;  // metres
+  float focusDistance;     // metres
   float focalLengthPixels;
 };
 
 struct OcclusionMaskOptions {
-  float edgeRatio = 1.1f;  // a neighbour this much deeper (relative) makes a depth edge
+  float edgeRatio = 1.1f;      // a neighbour this much deeper (relative) makes a depth edge
   float minDepthStep = 0.02f;  // ... and at least this much deeper, in metres
 };
 

@@ -37,9 +37,12 @@ ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest re
   while (rays < options.maxRays) {
     request.firstSample = rays;
     request.accumulate = true;
-    result.gpuMs += pipeline.renderReference(request, rays, [&](uint32_t done) {
-                        if (onProgress) onProgress(rays + done);
-                      }).gpuMs;
+    result.gpuMs += pipeline
+                        .renderReference(request, rays,
+                                         [&](uint32_t done) {
+                                           if (onProgress) onProgress(rays + done);
+                                         })
+                        .gpuMs;
     rays *= 2;
     ImageRgba8 current = pipeline.image();
     result.lastStepDb = compareImages(previous, current).psnrDb;

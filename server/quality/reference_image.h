@@ -21,7 +21,7 @@ struct ReferenceOptions {
 struct ReferenceImage {
   ImageRgba8 image;
   uint32_t rays = 0;
-  double lastStepDb = 0.0;  // PSNR between the images at rays and rays/2 (0 when fixed)
+  double lastStepDb = 0.0;        // PSNR between the images at rays and rays/2 (0 when fixed)
   double lastStepRegionDb = 0.0;  // the same inside options.region (0 without one)
   bool converged = false;
   double gpuMs = 0.0;

@@ -8,7 +8,8 @@ Camera Camera::fromScene(const SceneCamera& sceneCamera) {
   Camera camera;
   camera.position = sceneCamera.position;
   camera.forward = glm::normalize(sceneCamera.forward);
-  camera.up = glm::normalize(sceneCamera.up - camera.forward * glm::dot(sceneCamera.up, camera.forward));
+  camera.up =
+      glm::normalize(sceneCamera.up - camera.forward * glm::dot(sceneCamera.up, camera.forward));
   camera.yfov = sceneCamera.yfov;
   camera.znear = sceneCamera.znear;
   camera.zfar = sceneCamera.zfar;
@@ -41,10 +42,10 @@ gpu::FrameUniforms makeFrameUniforms(const Scene& scene, const Camera& camera, c
   u.lensShape = glm::vec4(lens.bladeRotation, 0.0f, 0.0f, 0.0f);
   u.skyColor = glm::vec4(scene.skyColor, settings.exposure);
   u.groundColor = glm::vec4(scene.groundColor, 0.0f);
-  u.image = glm::uvec4(settings.width, settings.height, settings.frameIndex,
-                       settings.samplesPerPixel);
-  u.options = glm::uvec4(static_cast<uint32_t>(scene.lights.size()), settings.pixelJitter ? 1 : 0,
-                         0, 0);
+  u.image =
+      glm::uvec4(settings.width, settings.height, settings.frameIndex, settings.samplesPerPixel);
+  u.options =
+      glm::uvec4(static_cast<uint32_t>(scene.lights.size()), settings.pixelJitter ? 1 : 0, 0, 0);
   return u;
 }
 

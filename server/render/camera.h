@@ -10,8 +10,8 @@ namespace hdof {
 struct Camera {
   glm::vec3 position{0.0f};
   glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit
-  glm::vec3 up{0.0f, 1.0f, 0.0f};  // unit, orthogonal to forward
-  float yfov = 0.7f;  // vertical field of view, radians
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        // unit, orthogonal to forward
+  float yfov = 0.7f;                     // vertical field of view, radians
   float znear = 0.05f, zfar = 1000.0f;
 
   static Camera fromScene(const SceneCamera& sceneCamera);
@@ -21,9 +21,9 @@ struct Camera {
 // camera's (see shared/frame.h for how the circle of confusion follows from both).
 struct Lens {
   float focalLengthMm = 50.0f;
-  float fNumber = 2.8f;  // >= 0.5; very large numbers make a pinhole
+  float fNumber = 2.8f;        // >= 0.5; very large numbers make a pinhole
   float focusDistance = 5.0f;  // metres, > 0
-  uint32_t blades = 0;  // aperture blades; 0 for a circular aperture
+  uint32_t blades = 0;         // aperture blades; 0 for a circular aperture
   float bladeRotation = 0.0f;  // radians
 
   float apertureDiameter() const { return focalLengthMm * 0.001f / fNumber; }

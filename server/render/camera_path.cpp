@@ -95,7 +95,8 @@ CameraPath CameraPath::parse(const std::string& text) {
     } else {
       key.time = keys.size() > 1 ? float(i) / float(keys.size() - 1) : 0.0f;
     }
-    if (auto fov = readPositive(k, "yfov_deg", i, 1.0f, 170.0f)) key.yfovRadians = glm::radians(*fov);
+    if (auto fov = readPositive(k, "yfov_deg", i, 1.0f, 170.0f))
+      key.yfovRadians = glm::radians(*fov);
     key.focalLengthMm = readPositive(k, "focal_length_mm", i, 1.0f, 5000.0f);
     key.fNumber = readPositive(k, "f_number", i, 0.5f, 1e7f);
     key.focusDistance = readPositive(k, "focus_distance", i, 0.01f, 1e5f);
@@ -119,8 +120,8 @@ CameraPath CameraPath::load(const std::string& path) {
 void CameraPath::sample(float fraction, const Camera& baseCamera, const Lens& baseLens,
                         Camera& camera, Lens& lens) const {
   const auto& keys = keyframes_;
-  float time = keys.front().time + std::clamp(fraction, 0.0f, 1.0f) *
-                                       (keys.back().time - keys.front().time);
+  float time =
+      keys.front().time + std::clamp(fraction, 0.0f, 1.0f) * (keys.back().time - keys.front().time);
   size_t segment = 0;
   while (segment + 2 < keys.size() && keys[segment + 1].time <= time) ++segment;
   size_t next = std::min(segment + 1, keys.size() - 1);

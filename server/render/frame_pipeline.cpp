@@ -143,7 +143,10 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       timer_.end(cmd);
       computeToCompute(cmd);
       radiance = &targets_->accumulation;
-      accumulation_ = {true, request.mode, request.camera, request.lens,
+      accumulation_ = {true,
+                       request.mode,
+                       request.camera,
+                       request.lens,
                        request.settings.samplesPerPixel,
                        (accumulate ? accumulation_.samples : 0) + request.settings.samplesPerPixel};
       break;

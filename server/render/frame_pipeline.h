@@ -39,8 +39,8 @@ struct FrameRequest {
 
 struct FrameStats {
   std::vector<std::pair<std::string, double>> passMs;  // GPU time per pass
-  double gpuMs = 0.0;  // sum of the passes
-  double wallMs = 0.0;  // submit to finish, as the CPU saw it
+  double gpuMs = 0.0;                                  // sum of the passes
+  double wallMs = 0.0;                                 // submit to finish, as the CPU saw it
   uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far
   double passMsOf(const std::string& pass) const;
 };

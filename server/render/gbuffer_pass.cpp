@@ -48,12 +48,13 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
   VkSubpassDependency dependencies[2] = {};
   dependencies[0].srcSubpass = VK_SUBPASS_EXTERNAL;
   dependencies[0].dstSubpass = 0;
-  dependencies[0].srcStageMask = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+  dependencies[0].srcStageMask =
+      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
   dependencies[0].srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-  dependencies[0].dstStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                 VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
-  dependencies[0].dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                                  VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  dependencies[0].dstStageMask =
+      VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT;
+  dependencies[0].dstAccessMask =
+      VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
   dependencies[1].srcSubpass = 0;
   dependencies[1].dstSubpass = VK_SUBPASS_EXTERNAL;
   dependencies[1].srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
@@ -75,19 +76,19 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
 
 }  // namespace
 
-GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene,
-                         const GpuScene& scene)
+GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, const GpuScene& scene)
     : context_(context),
       scene_(scene),
       runs_(buildTriangleRuns(cpuScene)),
-      resolve_(gpu::createComputePipeline(
-          context, "gbuffer_resolve.comp", scene.setLayout(),
-          {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}, {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
+      resolve_(gpu::createComputePipeline(context, "gbuffer_resolve.comp", scene.setLayout(),
+                                          {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
   renderPass_ = createRenderPass(context);
-  passSetLayout_ =
-      gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true, "gbuffer pass set");
+  passSetLayout_ = gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true,
+                                        "gbuffer pass set");
   layout_ = gpu::createPipelineLayout(context, {scene.setLayout(), passSetLayout_}, 0);
 
   gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
@@ -131,7 +132,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene,
   depth.depthCompareOp = VK_COMPARE_OP_LESS;
   std::array<VkPipelineColorBlendAttachmentState, kColorFormats.size()> blends{};
   for (auto& b : blends) b.colorWriteMask = 0xf;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  VkPipelineColorBlendStateCreateInfo blend{
+      VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   blend.attachmentCount = static_cast<uint32_t>(blends.size());
   blend.pAttachments = blends.data();
   VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
@@ -153,7 +155,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene,
   info.layout = layout_;
   info.renderPass = renderPass_;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  VK_CHECK(
+      vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), "gbuffer");
   pipeline_ = gpu::Pipeline(context.device(), pipeline);
 }
@@ -190,7 +193,8 @@ void GBufferPass::recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frame
   vkCmdSetScissor(cmd, 0, 1, &scissor);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_);
-  gpu::DescriptorWriter().uniformBuffer(gpu::kBindingFrame, frameUniforms)
+  gpu::DescriptorWriter()
+      .uniformBuffer(gpu::kBindingFrame, frameUniforms)
       .push(context_, cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, gpu::kPassSet);
   VkBuffer corners = scene_.cornerBuffer().get();
   VkDeviceSize offset = 0;

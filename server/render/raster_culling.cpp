@@ -12,7 +12,7 @@ bool outsideFrustum(const Aabb& box, const glm::mat4& viewProj) {
     glm::vec3 p((corner & 1) ? box.max.x : box.min.x, (corner & 2) ? box.max.y : box.min.y,
                 (corner & 4) ? box.max.z : box.min.z);
     glm::vec4 c = viewProj * glm::vec4(p, 1.0f);
-    bool outside[6] = {c.x < -c.w, c.x > c.w, c.y < -c.w, c.y > c.w, c.z < 0.0f, c.z > c.w};
+    bool outside[6] = {c.x<-c.w, c.x> c.w, c.y<-c.w, c.y> c.w, c.z<0.0f, c.z> c.w};
     for (int plane = 0; plane < 6; ++plane) allOutside[plane] &= outside[plane];
   }
   return std::any_of(std::begin(allOutside), std::end(allOutside), [](bool b) { return b; });

@@ -13,8 +13,8 @@ class ReferencePass {
   ReferencePass(const gpu::Context& context, const GpuScene& scene);
   struct Rays {
     uint32_t firstSample;  // number of the first ray in each pixel's sample sequence
-    uint32_t count;  // rays per pixel to trace
-    bool accumulate;  // add to targets.accumulation, or start it over
+    uint32_t count;        // rays per pixel to trace
+    bool accumulate;       // add to targets.accumulation, or start it over
     uint32_t sequence;  // which family of sample sequences: 0 for the reference, others for modes
   };
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const RenderTargets& targets,

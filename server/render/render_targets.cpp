@@ -3,8 +3,8 @@
 namespace hdof {
 namespace {
 
-gpu::Image makeTarget(const gpu::Context& context, uint32_t width, uint32_t height,
-                      VkFormat format, VkImageUsageFlags usage, const char* name) {
+gpu::Image makeTarget(const gpu::Context& context, uint32_t width, uint32_t height, VkFormat format,
+                      VkImageUsageFlags usage, const char* name) {
   gpu::ImageDesc desc;
   desc.width = width;
   desc.height = height;
@@ -24,7 +24,8 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
   specular = makeTarget(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "specular");
   normalDepth = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT,
                            kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "normal depth");
-  accumulation = makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "accumulation");
+  accumulation =
+      makeTarget(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "accumulation");
   display = makeTarget(context, w, h, VK_FORMAT_R8G8B8A8_UNORM,
                        kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "display");
   gpu::ImageDesc depthDesc;

@@ -56,9 +56,9 @@ uint32_t addTextured(Scene& scene, Texture texture, float roughness) {
   return addMaterial(scene, makeMaterial(glm::vec3(1.0f), roughness, 0.0f, index));
 }
 
-// A railing at 0.8 m, foreground objects at 1-2 m, a fence and poles at 3-4 m, textured crates, shiny spheres and
-// columns around the focus plane at 4 m and behind it, a brick wall at 12 m, and small bright
-// lights at every depth for bokeh.
+// A railing at 0.8 m, foreground objects at 1-2 m, a fence and poles at 3-4 m, textured crates,
+// shiny spheres and columns around the focus plane at 4 m and behind it, a brick wall at 12 m, and
+// small bright lights at every depth for bokeh.
 Scene makeDofScene() {
   Scene scene;
   scene.name = "dof";

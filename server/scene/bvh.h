@@ -11,7 +11,7 @@
 namespace hdof {
 
 struct Bvh {
-  std::vector<gpu::BvhNode> nodes;  // node 0 is the root
+  std::vector<gpu::BvhNode> nodes;          // node 0 is the root
   std::vector<gpu::BvhTriangle> triangles;  // in leaf order
   uint32_t depth = 0;  // longest root-to-leaf path, in nodes; kept below gpu::kBvhStackSize
   double buildMs = 0.0;
@@ -27,7 +27,7 @@ Bvh buildBvh(const std::vector<gpu::Vertex>& vertices, const std::vector<uint32_
 
 struct RayHit {
   float t = 0.0f;
-  uint32_t triangle = 0;  // index into the scene's index buffer / 3
+  uint32_t triangle = 0;     // index into the scene's index buffer / 3
   float u = 0.0f, v = 0.0f;  // barycentrics of vertices 1 and 2
 };
 

@@ -10,7 +10,6 @@
 namespace hdof {
 namespace {
 
-
 // Resamples every texture to one square power-of-two size (sRGB-aware) with a full mip chain,
 // and uploads them as the layers of one array image.
 gpu::Image uploadTextureArray(const gpu::Context& context, const std::vector<Texture>& textures) {
@@ -143,10 +142,11 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   corners_ = gpu::createBufferWithData(context, std::span<const glm::vec3>(corners),
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
   lights_ = gpu::createBufferWithData(context, std::span(scene.lights),
-                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "scene lights");
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "scene lights");
   bvhNodes_ = uploadTexels(context, packBvhPairNodes(bvh), "bvh nodes");
   bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
-  for (const gpu::Buffer* buffer : {&vertices_, &triangles_, &materials_, &bvhNodes_, &bvhTriangles_})
+  for (const gpu::Buffer* buffer :
+       {&vertices_, &triangles_, &materials_, &bvhNodes_, &bvhTriangles_})
     texelViews_.push_back(createTexelView(context, *buffer, "texels"));
 
   textures_ = uploadTextureArray(context, scene.textures);
@@ -169,10 +169,9 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
                 gpu::kBindingMaterials == 2 && gpu::kBindingLights == 3 &&
                 gpu::kBindingBvhNodes == 4 && gpu::kBindingBvhTriangles == 5 &&
                 gpu::kBindingTextures == 6);
-  setLayout_ = gpu::createSetLayout(context,
-                                    {{kTexels}, {kTexels}, {kTexels}, {kBuffer}, {kTexels},
-                                     {kTexels}, {kSampled}},
-                                    false, "scene set");
+  setLayout_ = gpu::createSetLayout(
+      context, {{kTexels}, {kTexels}, {kTexels}, {kBuffer}, {kTexels}, {kTexels}, {kSampled}},
+      false, "scene set");
   VkDescriptorPoolSize sizes[] = {{kBuffer, 1}, {kTexels, 5}, {kSampled, 1}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;

@@ -53,8 +53,8 @@ struct SceneCamera {
   std::string name;
   glm::vec3 position{0.0f};
   glm::vec3 forward{0.0f, 0.0f, -1.0f};  // unit
-  glm::vec3 up{0.0f, 1.0f, 0.0f};  // unit, orthogonal to forward
-  float yfov = 0.7f;  // radians
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        // unit, orthogonal to forward
+  float yfov = 0.7f;                     // radians
   float znear = 0.05f;
   float zfar = 1000.0f;
   std::optional<float> focusDistance;  // a suggested focus distance (m), where the scene knows one
@@ -62,13 +62,13 @@ struct SceneCamera {
 
 struct Scene {
   std::string name;
-  std::vector<gpu::Vertex> vertices;  // world space; vertices are not shared across materials
-  std::vector<uint32_t> indices;  // three per triangle
+  std::vector<gpu::Vertex> vertices;     // world space; vertices are not shared across materials
+  std::vector<uint32_t> indices;         // three per triangle
   std::vector<gpu::Material> materials;  // at least one
-  std::vector<Texture> textures;  // referenced by Material::baseColorTexture
+  std::vector<Texture> textures;         // referenced by Material::baseColorTexture
   std::vector<gpu::Light> lights;
   std::vector<SceneCamera> cameras;  // at least one: loaders add a default view of the bounds
-  glm::vec3 skyColor{0.25f, 0.28f, 0.33f};  // ambient radiance from above, linear
+  glm::vec3 skyColor{0.25f, 0.28f, 0.33f};     // ambient radiance from above, linear
   glm::vec3 groundColor{0.08f, 0.07f, 0.06f};  // ambient radiance from below, linear
   Aabb bounds;
 
@@ -83,7 +83,7 @@ Scene loadScene(const std::string& spec);
 // Names of the built-in scenes, the default one first.
 std::vector<std::string> builtinSceneNames();
 Scene makeBuiltinScene(const std::string& name);  // throws SceneError for an unknown name
-Scene loadGltfScene(const std::string& path);  // throws SceneError
+Scene loadGltfScene(const std::string& path);     // throws SceneError
 
 // Shared finishing steps for loaders: generates missing normals, computes per-vertex
 // uvPerMeter, the bounds, and a default camera when the scene has none.

@@ -15,17 +15,18 @@ HDOF_CONST float kBackgroundDepth = 1.0e5;
 
 struct FrameUniforms {
   mat4 viewProj;  // world to clip, Vulkan conventions (y down, depth 0..1)
-  vec4 eye;  // xyz camera position, w tan(vertical fov / 2)
-  vec4 right;  // xyz unit right vector, w tan(horizontal fov / 2)
-  vec4 up;  // xyz unit up vector, w aperture diameter in metres (focal length / f-number)
-  vec4 forward;  // xyz unit view direction, w focus distance in metres
+  vec4 eye;       // xyz camera position, w tan(vertical fov / 2)
+  vec4 right;     // xyz unit right vector, w tan(horizontal fov / 2)
+  vec4 up;        // xyz unit up vector, w aperture diameter in metres (focal length / f-number)
+  vec4 forward;   // xyz unit view direction, w focus distance in metres
   vec4 lens;  // x focal length in pixels (width / 2 tan(hfov/2)), y focal length (m), z f-number,
               // w aperture blade count (0: circle)
-  vec4 lensShape;  // x blade rotation (radians), yzw unused
-  vec4 skyColor;  // ambient light from above (linear RGB), w exposure
+  vec4 lensShape;    // x blade rotation (radians), yzw unused
+  vec4 skyColor;     // ambient light from above (linear RGB), w exposure
   vec4 groundColor;  // ambient light from below, w unused
   uvec4 image;  // x width, y height, z frame index (for sampling sequences), w samples per pixel
-  uvec4 options;  // x light count, y pixel jitter on (1) or rays through pixel centres (0), zw unused
+  uvec4
+      options;  // x light count, y pixel jitter on (1) or rays through pixel centres (0), zw unused
 };
 
 // Signed circle of confusion, in pixels, of a point at linear view depth z (metres along the view

@@ -11,13 +11,13 @@ HDOF_NAMESPACE_BEGIN
 
 // Descriptor set 0: the scene, shared by every pass and session.
 HDOF_CONST uint kSceneSet = 0;
-HDOF_CONST uint kBindingVertices = 0;  // PackedVertex rows
-HDOF_CONST uint kBindingTriangles = 1;  // uvec4 per triangle: its three vertices and material
-HDOF_CONST uint kBindingMaterials = 2;  // PackedMaterial rows
-HDOF_CONST uint kBindingLights = 3;  // Light, a storage buffer (scalar layout)
-HDOF_CONST uint kBindingBvhNodes = 4;  // BvhPairNode, as an RGBA32UI uniform texel buffer
+HDOF_CONST uint kBindingVertices = 0;      // PackedVertex rows
+HDOF_CONST uint kBindingTriangles = 1;     // uvec4 per triangle: its three vertices and material
+HDOF_CONST uint kBindingMaterials = 2;     // PackedMaterial rows
+HDOF_CONST uint kBindingLights = 3;        // Light, a storage buffer (scalar layout)
+HDOF_CONST uint kBindingBvhNodes = 4;      // BvhPairNode, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingBvhTriangles = 5;  // BvhTriangle, as an RGBA32UI uniform texel buffer
-HDOF_CONST uint kBindingTextures = 6;  // one 2D array texture, a layer per scene texture
+HDOF_CONST uint kBindingTextures = 6;      // one 2D array texture, a layer per scene texture
 
 // Scene textures are resampled to square layers of one array texture, so that any shader can
 // pick a texture per pixel without non-uniform descriptor indexing. The layer side is the
@@ -28,9 +28,9 @@ HDOF_CONST uint kMaxTextureLayers = 256;
 HDOF_CONST uint kNoTexture = 0xffffffffu;
 
 struct Vertex {
-  vec3 position;  // world space
+  vec3 position;     // world space
   float uvPerMeter;  // texture-space length per world-space length here: picks the mip level
-  vec3 normal;  // world space, unit length
+  vec3 normal;       // world space, unit length
   uint material;
   vec2 uv;
 };
@@ -46,7 +46,7 @@ struct PackedVertex {
 
 struct Material {
   vec4 baseColor;  // linear RGB, alpha unused (all opaque)
-  vec3 emissive;  // linear RGB radiance
+  vec3 emissive;   // linear RGB radiance
   float metallic;
   float roughness;
   uint baseColorTexture;  // layer of the texture array or kNoTexture
@@ -89,8 +89,8 @@ struct Light {
   vec3 position;  // point, spot
   uint type;
   vec3 direction;  // unit vector the light travels along (directional, spot)
-  float range;  // 0: unlimited
-  vec3 color;  // colour times intensity (lux for directional, candela otherwise)
+  float range;     // 0: unlimited
+  vec3 color;      // colour times intensity (lux for directional, candela otherwise)
   float spotCosInner;
   float spotCosOuter;
 };

@@ -47,8 +47,7 @@ void expectUsageError(const std::string& args, const std::string& expected) {
   EXPECT_EQ(r.exitCode, 2) << args << "\nstderr: " << r.stderrText;
   EXPECT_EQ(std::count(r.stderrText.begin(), r.stderrText.end(), '\n'), 1)
       << args << "\nstderr: " << r.stderrText;
-  EXPECT_NE(r.stderrText.find(expected), std::string::npos)
-      << args << "\nstderr: " << r.stderrText;
+  EXPECT_NE(r.stderrText.find(expected), std::string::npos) << args << "\nstderr: " << r.stderrText;
 }
 
 const std::string kOut = "--out " + (tempDir() / "x.png").string();

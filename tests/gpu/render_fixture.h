@@ -31,7 +31,7 @@ struct RenderSpec {
   RenderMode mode = RenderMode::Pinhole;
   uint32_t width = 160, height = 90;
   uint32_t raysPerPixel = 1;  // reference: in total; raytrace: per frame
-  uint32_t frames = 1;  // raytrace: frames of a still camera
+  uint32_t frames = 1;        // raytrace: frames of a still camera
   bool pixelJitter = true;
   Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
 };

@@ -18,10 +18,10 @@ void addTriangle(Scene& scene, glm::vec3 center) {
 
 TEST(RasterCulling, KeepsVisibleRunsAndMergesNeighbours) {
   Scene scene;
-  addTriangle(scene, {0, 0, -5});  // in front
+  addTriangle(scene, {0, 0, -5});     // in front
   addTriangle(scene, {0.5f, 0, -6});  // in front
-  addTriangle(scene, {0, 0, 5});  // behind
-  addTriangle(scene, {100, 0, -5});  // far to the right
+  addTriangle(scene, {0, 0, 5});      // behind
+  addTriangle(scene, {100, 0, -5});   // far to the right
   addTriangle(scene, {0, 0.2f, -3});  // in front
   std::vector<TriangleRun> runs = buildTriangleRuns(scene, 1);
   ASSERT_EQ(runs.size(), 5u);
