@@ -25,8 +25,8 @@ struct FrameUniforms {
   vec4 skyColor;     // ambient light from above (linear RGB), w exposure
   vec4 groundColor;  // ambient light from below, w unused
   uvec4 image;  // x width, y height, z frame index (for sampling sequences), w samples per pixel
-  uvec4
-      options;  // x light count, y pixel jitter on (1) or rays through pixel centres (0), zw unused
+  // x light count, y pixel jitter on (1) or rays through pixel centres (0), zw unused
+  uvec4 options;
 };
 
 // Signed circle of confusion, in pixels, of a point at linear view depth z (metres along the view
