@@ -107,6 +107,25 @@ Image::Image(const Context& context, const ImageDesc& desc, const std::string& n
   context.setName(VK_OBJECT_TYPE_IMAGE_VIEW, reinterpret_cast<uint64_t>(view), name + " view");
 }
 
+Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
+                    VkImageUsageFlags usage, const std::string& name) {
+  ImageDesc desc;
+  desc.width = width;
+  desc.height = height;
+  desc.format = format;
+  desc.usage = usage;
+  return Image(context, desc, name);
+}
+
+void makeGeneral(const Context& context, std::initializer_list<const Image*> images) {
+  context.submitAndWait([&](VkCommandBuffer cmd) {
+    for (const Image* image : images)
+      transitionImage(cmd, image->get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+  });
+}
+
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                      VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                      VkPipelineStageFlags dstStage, VkAccessFlags dstAccess,

@@ -5,6 +5,7 @@
 #include "gpu/context.h"
 
 #include <cstring>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <utility>
@@ -117,6 +118,13 @@ class Image {
   ImageView view_;
   ImageDesc desc_;
 };
+
+// A single-level 2D colour image, as render targets are.
+Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
+                    VkImageUsageFlags usage, const std::string& name);
+
+// Moves new images to VK_IMAGE_LAYOUT_GENERAL, where render targets stay (storage and sampled).
+void makeGeneral(const Context& context, std::initializer_list<const Image*> images);
 
 // One image layout transition (and execution/memory dependency) for all mip levels.
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

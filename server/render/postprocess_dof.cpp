@@ -22,13 +22,9 @@ namespace {
 
 gpu::Image makeImage(const gpu::Context& context, uint32_t width, uint32_t height, VkFormat format,
                      const char* name) {
-  gpu::ImageDesc desc;
-  desc.width = width;
-  desc.height = height;
-  desc.format = format;
   // Sampled too, so the tonemap and debug views can read any of them.
-  desc.usage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT;
-  return gpu::Image(context, desc, name);
+  return gpu::createImage2D(context, width, height, format,
+                            VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, name);
 }
 
 uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) {
@@ -60,13 +56,8 @@ PostProcessDof::Images::Images(const gpu::Context& context, uint32_t w, uint32_t
   farFiltered = makeImage(context, halfW, halfH, kColor, "dof far filtered");
   nearFiltered = makeImage(context, halfW, halfH, kColor, "dof near filtered");
   output = makeImage(context, w, h, kColor, "dof output");
-  context.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const gpu::Image* image : {&coc, &tiles, &dilatedTiles, &halfColorCoc, &prefiltered,
-                                    &farLayer, &nearLayer, &farFiltered, &nearFiltered, &output})
-      gpu::transitionImage(cmd, image->get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                           VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-  });
+  gpu::makeGeneral(context, {&coc, &tiles, &dilatedTiles, &halfColorCoc, &prefiltered, &farLayer,
+                             &nearLayer, &farFiltered, &nearFiltered, &output});
 }
 
 PostProcessDof::PostProcessDof(const gpu::Context& context, uint32_t width, uint32_t height)
