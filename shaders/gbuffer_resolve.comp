@@ -14,6 +14,15 @@ layout(set = 1, binding = 1, r32ui) uniform readonly uimage2D visibility;
 layout(set = 1, binding = 2) uniform writeonly image2D outColor;  // rgba16f
 layout(set = 1, binding = 3) uniform writeonly image2D outSpecular;  // rgba16f
 layout(set = 1, binding = 4) uniform writeonly image2D outNormalDepth;  // rgba32f
+layout(set = 1, binding = 5) uniform writeonly image2D outMotion;  // rg16f
+
+// Offset in pixels from this pixel to where `point` (w = 1) or direction (w = 0) was on screen
+// in the previous frame.
+vec2 motionTo(vec4 point, ivec2 pixel) {
+  vec4 clip = frame.previousViewProj * point;
+  vec2 previous = (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
+  return previous - (vec2(pixel) + 0.5);
+}
 
 const uint kNoTriangle = 0xffffffffu;
 
@@ -25,6 +34,8 @@ void main() {
     imageStore(outColor, pixel, vec4(frame.skyColor.rgb, 1.0));
     imageStore(outSpecular, pixel, vec4(0.0));
     imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
+    imageStore(outMotion, pixel, vec4(motionTo(vec4(pinholeDirection(vec2(pixel) + 0.5), 0.0),
+                                               pixel), 0.0, 0.0));
     return;
   }
   // Barycentrics of the pixel centre's ray on the plane of the triangle (Möller–Trumbore
@@ -49,4 +60,5 @@ void main() {
   imageStore(outSpecular, pixel, vec4(specular, 1.0));
   float linearDepth = dot(s.position - frame.eye.xyz, frame.forward.xyz);
   imageStore(outNormalDepth, pixel, vec4(normalize(s.normal), linearDepth));
+  imageStore(outMotion, pixel, vec4(motionTo(vec4(s.position, 1.0), pixel), 0.0, 0.0));
 }

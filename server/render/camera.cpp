@@ -33,6 +33,7 @@ gpu::FrameUniforms makeFrameUniforms(const Scene& scene, const Camera& camera, c
 
   gpu::FrameUniforms u{};
   u.viewProj = projection * view;
+  u.previousViewProj = u.viewProj;
   u.eye = glm::vec4(camera.position, tanHalfY);
   u.right = glm::vec4(right, tanHalfY * aspect);
   u.up = glm::vec4(camera.up, lens.apertureDiameter());

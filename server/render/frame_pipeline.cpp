@@ -88,7 +88,8 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   gbuffer_.bindTargets(*targets_);
   postProcess_.resize(width, height);
   accumulation_.valid = false;
-  depthReadback_ = gpu::Buffer();
+  readback_ = gpu::Buffer();
+  previousViewProj_.reset();
 }
 
 FrameStats FramePipeline::render(const FrameRequest& request) {
@@ -96,6 +97,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
     throw std::logic_error("FramePipeline::render: request size differs from the targets");
   gpu::FrameUniforms uniforms =
       makeFrameUniforms(scene_, request.camera, request.lens, request.settings);
+  uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
+  previousViewProj_ = uniforms.viewProj;
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
 
   VkCommandBuffer cmd = commandBuffer_;
@@ -193,26 +196,36 @@ FrameStats FramePipeline::renderReference(FrameRequest request, uint32_t raysPer
   return total;
 }
 
-std::vector<float> FramePipeline::linearDepth() {
-  VkDeviceSize bytes = VkDeviceSize(targets_->width) * targets_->height * 4 * sizeof(float);
-  if (!depthReadback_.get())
-    depthReadback_ = gpu::Buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                 gpu::MemoryUse::Readback, "depth readback");
+const void* FramePipeline::readTarget(const gpu::Image& image, uint32_t bytesPerPixel) {
+  VkDeviceSize bytes = VkDeviceSize(targets_->width) * targets_->height * bytesPerPixel;
+  if (readback_.size() < bytes)
+    readback_ = gpu::Buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                            gpu::MemoryUse::Readback, "target readback");
   context_.submitAndWait([&](VkCommandBuffer cmd) {
     gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {targets_->width, targets_->height, 1};
-    vkCmdCopyImageToBuffer(cmd, targets_->normalDepth.get(), VK_IMAGE_LAYOUT_GENERAL,
-                           depthReadback_.get(), 1, &region);
+    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, readback_.get(), 1, &region);
     gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   });
-  const auto* texels = static_cast<const glm::vec4*>(depthReadback_.mapped());
+  return readback_.mapped();
+}
+
+std::vector<float> FramePipeline::linearDepth() {
+  const auto* texels = static_cast<const glm::vec4*>(readTarget(targets_->normalDepth, 16));
   std::vector<float> depth(size_t(targets_->width) * targets_->height);
   for (size_t i = 0; i < depth.size(); ++i) depth[i] = texels[i].w;
   return depth;
+}
+
+std::vector<glm::vec2> FramePipeline::motionVectors() {
+  const auto* texels = static_cast<const uint32_t*>(readTarget(targets_->motion, 4));
+  std::vector<glm::vec2> motion(size_t(targets_->width) * targets_->height);
+  for (size_t i = 0; i < motion.size(); ++i) motion[i] = glm::unpackHalf2x16(texels[i]);
+  return motion;
 }
 
 ImageRgba8 FramePipeline::image() const {

@@ -69,6 +69,10 @@ class FramePipeline {
   // Linear view depth (metres, kBackgroundDepth where nothing is) of the last frame that ran
   // the G-buffer, row-major.
   std::vector<float> linearDepth();
+  // Motion vectors of the last frame that ran the G-buffer (see RenderTargets::motion).
+  std::vector<glm::vec2> motionVectors();
+  // Forgets the previous frame's view: the next frame's motion is zero (a camera cut).
+  void cut() { previousViewProj_.reset(); }
 
  private:
   const gpu::Context& context_;
@@ -83,7 +87,11 @@ class FramePipeline {
   gpu::GpuTimer timer_;
   VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
   gpu::Fence fence_;
-  gpu::Buffer depthReadback_;
+  gpu::Buffer readback_;  // for linearDepth() and motionVectors()
+  std::optional<glm::mat4> previousViewProj_;
+
+  // The bytes of a render target (tightly packed rows), after the GPU is idle.
+  const void* readTarget(const gpu::Image& image, uint32_t bytesPerPixel);
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {

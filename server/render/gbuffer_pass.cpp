@@ -85,6 +85,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
   renderPass_ = createRenderPass(context);
   passSetLayout_ = gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true,
@@ -214,7 +215,8 @@ void GBufferPass::recordResolve(VkCommandBuffer cmd, const gpu::Buffer& frameUni
                            .storageImage(1, targets.visibility)
                            .storageImage(2, targets.color)
                            .storageImage(3, targets.specular)
-                           .storageImage(4, targets.normalDepth),
+                           .storageImage(4, targets.normalDepth)
+                           .storageImage(5, targets.motion),
                        targets.width, targets.height);
 }
 

@@ -11,6 +11,8 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
       gpu::createImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kShaderUse, "specular");
   normalDepth = gpu::createImage2D(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT,
                                    kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "normal depth");
+  motion = gpu::createImage2D(context, w, h, VK_FORMAT_R16G16_SFLOAT,
+                              kShaderUse | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, "motion");
   accumulation =
       gpu::createImage2D(context, w, h, VK_FORMAT_R32G32B32A32_SFLOAT, kShaderUse, "accumulation");
   display = gpu::createImage2D(context, w, h, VK_FORMAT_R8G8B8A8_UNORM,
@@ -25,8 +27,8 @@ RenderTargets::RenderTargets(const gpu::Context& context, uint32_t w, uint32_t h
   readback = gpu::Buffer(context, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                          gpu::MemoryUse::Readback, "display readback");
 
-  gpu::makeGeneral(context,
-                   {&visibility, &color, &specular, &normalDepth, &accumulation, &display});
+  gpu::makeGeneral(
+      context, {&visibility, &color, &specular, &normalDepth, &motion, &accumulation, &display});
 }
 
 }  // namespace hdof

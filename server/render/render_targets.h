@@ -10,10 +10,13 @@ struct RenderTargets {
   RenderTargets(const gpu::Context& context, uint32_t width, uint32_t height);
 
   uint32_t width, height;
-  gpu::Image visibility;    // r32ui: the triangle seen at each pixel centre (raster)
-  gpu::Image color;         // rgba16f: sharp shaded colour (HDR)
-  gpu::Image specular;      // rgba16f: its specular part
-  gpu::Image normalDepth;   // rgba32f: world normal, linear view depth (metres)
+  gpu::Image visibility;   // r32ui: the triangle seen at each pixel centre (raster)
+  gpu::Image color;        // rgba16f: sharp shaded colour (HDR)
+  gpu::Image specular;     // rgba16f: its specular part
+  gpu::Image normalDepth;  // rgba32f: world normal, linear view depth (metres)
+  // rg16f: where each pixel's surface was in the previous frame, in pixels from the pixel (for
+  // the sky: where its direction was)
+  gpu::Image motion;
   gpu::Image depth;         // d32: the raster depth buffer
   gpu::Image accumulation;  // rgba32f: progressive ray-traced sum, alpha = samples
   gpu::Image display;       // rgba8: tonemapped sRGB output

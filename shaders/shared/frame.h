@@ -15,6 +15,7 @@ HDOF_CONST float kBackgroundDepth = 1.0e5;
 
 struct FrameUniforms {
   mat4 viewProj;  // world to clip, Vulkan conventions (y down, depth 0..1)
+  mat4 previousViewProj;  // the previous frame's (this frame's after a cut): motion vectors
   vec4 eye;       // xyz camera position, w tan(vertical fov / 2)
   vec4 right;     // xyz unit right vector, w tan(horizontal fov / 2)
   vec4 up;        // xyz unit up vector, w aperture diameter in metres (focal length / f-number)
@@ -49,7 +50,7 @@ HDOF_FN float cocOnSensor(float z, float focalLength, float fNumber, float focus
 HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
-static_assert(sizeof(hdof::gpu::FrameUniforms) == 64 + 10 * 16);
+static_assert(sizeof(hdof::gpu::FrameUniforms) == 2 * 64 + 10 * 16);
 #endif
 
 #endif
