@@ -5,9 +5,6 @@
 
 namespace hdof::gpu {
 
-constexpr VkShaderStageFlags kAllStages =
-    VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-
 ShaderModule createShaderModule(const Context& context, const std::string& name) {
   std::span<const uint32_t> code = embeddedShader(name);
   VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -25,7 +22,7 @@ DescriptorSetLayout createSetLayout(const Context& context,
   std::vector<VkDescriptorSetLayoutBinding> vkBindings;
   for (const LayoutBinding& b : bindings)
     vkBindings.push_back(
-        {static_cast<uint32_t>(vkBindings.size()), b.type, b.count, kAllStages, nullptr});
+        {static_cast<uint32_t>(vkBindings.size()), b.type, b.count, kAllShaderStages, nullptr});
   VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   if (pushDescriptors) info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   info.bindingCount = static_cast<uint32_t>(vkBindings.size());
@@ -40,7 +37,7 @@ PipelineLayout createPipelineLayout(const Context& context,
                                     std::initializer_list<VkDescriptorSetLayout> setLayouts,
                                     uint32_t pushConstantSize) {
   std::vector<VkDescriptorSetLayout> layouts(setLayouts);
-  VkPushConstantRange range{kAllStages, 0, pushConstantSize};
+  VkPushConstantRange range{kAllShaderStages, 0, pushConstantSize};
   VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   info.setLayoutCount = static_cast<uint32_t>(layouts.size());
   info.pSetLayouts = layouts.data();
@@ -128,10 +125,8 @@ void dispatchCompute(const Context& context, VkCommandBuffer cmd, const ComputeP
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
   passDescriptors.push(context, cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout, kPassSet);
   if (pipeline.pushConstantSize)
-    vkCmdPushConstants(
-        cmd, pipeline.layout,
-        VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-        pipeline.pushConstantSize, pushConstants);
+    vkCmdPushConstants(cmd, pipeline.layout, kAllShaderStages, 0, pipeline.pushConstantSize,
+                       pushConstants);
   vkCmdDispatch(cmd, (width + groupSize - 1) / groupSize, (height + groupSize - 1) / groupSize, 1);
 }
 

@@ -15,6 +15,10 @@ std::span<const uint32_t> embeddedShader(const std::string& name);  // generated
 
 namespace hdof::gpu {
 
+// The stages every descriptor and push-constant range of hdof is visible to.
+inline constexpr VkShaderStageFlags kAllShaderStages =
+    VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+
 ShaderModule createShaderModule(const Context& context, const std::string& name);
 
 struct LayoutBinding {

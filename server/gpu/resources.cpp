@@ -126,6 +126,17 @@ void makeGeneral(const Context& context, std::initializer_list<const Image*> ima
   });
 }
 
+void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer) {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {image.width(), image.height(), 1};
+  vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, buffer.get(), 1, &region);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                      VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,
                      VkPipelineStageFlags dstStage, VkAccessFlags dstAccess,

@@ -126,6 +126,10 @@ Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkF
 // Moves new images to VK_IMAGE_LAYOUT_GENERAL, where render targets stay (storage and sampled).
 void makeGeneral(const Context& context, std::initializer_list<const Image*> images);
 
+// Copies a single-level colour image in VK_IMAGE_LAYOUT_GENERAL to a host-readable buffer (tight
+// rows), after all earlier writes and before the host reads it.
+void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer);
+
 // One image layout transition (and execution/memory dependency) for all mip levels.
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                      VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,

@@ -201,16 +201,8 @@ const void* FramePipeline::readTarget(const gpu::Image& image, uint32_t bytesPer
   if (readback_.size() < bytes)
     readback_ = gpu::Buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             gpu::MemoryUse::Readback, "target readback");
-  context_.submitAndWait([&](VkCommandBuffer cmd) {
-    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {targets_->width, targets_->height, 1};
-    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, readback_.get(), 1, &region);
-    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-  });
+  context_.submitAndWait(
+      [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, image, readback_); });
   return readback_.mapped();
 }
 

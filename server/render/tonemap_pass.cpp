@@ -26,15 +26,7 @@ void TonemapPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
                            .sampledImage(1, radiance, sampler_)
                            .storageImage(2, targets.display),
                        targets.width, targets.height);
-  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-  VkBufferImageCopy region{};
-  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  region.imageExtent = {targets.width, targets.height, 1};
-  vkCmdCopyImageToBuffer(cmd, targets.display.get(), VK_IMAGE_LAYOUT_GENERAL,
-                         targets.readback.get(), 1, &region);
-  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  gpu::copyImageToBuffer(cmd, targets.display, targets.readback);
 }
 
 }  // namespace hdof

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/packing.hpp>
+
 namespace hdof::test {
 
 gpu::Context& testContext() {
@@ -66,6 +68,25 @@ std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut)
   pipeline.render(request);
   if (requestOut) *requestOut = request;
   return pipeline.linearDepth();
+}
+
+std::vector<glm::vec4> readImage(const gpu::Image& image) {
+  bool half = image.desc().format == VK_FORMAT_R16G16B16A16_SFLOAT;
+  size_t texels = size_t(image.width()) * image.height();
+  gpu::Buffer buffer(testContext(), texels * (half ? 8 : 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                     gpu::MemoryUse::Readback, "test readback");
+  testContext().submitAndWait(
+      [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, image, buffer); });
+  std::vector<glm::vec4> out(texels);
+  for (size_t i = 0; i < texels; ++i) {
+    if (half) {
+      const auto* words = static_cast<const uint32_t*>(buffer.mapped()) + i * 2;
+      out[i] = glm::vec4(glm::unpackHalf2x16(words[0]), glm::unpackHalf2x16(words[1]));
+    } else {
+      out[i] = static_cast<const glm::vec4*>(buffer.mapped())[i];
+    }
+  }
+  return out;
 }
 
 double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b) {

@@ -40,6 +40,9 @@ ImageRgba8 renderImage(const RenderSpec& spec);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
 
+// A render target's texels on the CPU (rgba16f or rgba32f images).
+std::vector<glm::vec4> readImage(const gpu::Image& image);
+
 // Mean squared error over RGB, in 8-bit units squared.
 double meanSquaredError(const ImageRgba8& a, const ImageRgba8& b);
 

@@ -73,8 +73,8 @@ class PostProcessRig {
     frame.passMs = timer_.results();
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       tonemap_.record(cmd, uniformBuffer_, dof_.output(), targets_);
-      copyToBuffer(cmd, dof_.output(), blurredReadback_);
-      copyToBuffer(cmd, targets_.color, sharpReadback_);
+      gpu::copyImageToBuffer(cmd, dof_.output(), blurredReadback_);
+      gpu::copyImageToBuffer(cmd, targets_.color, sharpReadback_);
     });
     frame.blurred = display();
     frame.blurredHdr = hdrPixels(blurredReadback_);
@@ -89,17 +89,6 @@ class PostProcessRig {
   gpu::FrameUniforms uniforms{};
 
  private:
-  void copyToBuffer(VkCommandBuffer cmd, const gpu::Image& image, const gpu::Buffer& buffer) {
-    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {targets_.width, targets_.height, 1};
-    vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, buffer.get(), 1, &region);
-    gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-  }
-
   ImageRgba8 display() const {
     ImageRgba8 image;
     image.width = targets_.width;
