@@ -1,0 +1,59 @@
+// Ray mask, edges (like Canny): a 3x3 Gaussian of the G-buffer, then a Sobel kernel, folded into
+// one 5x5 derivative-of-Gaussian kernel per pixel. Normals take the Sobel gradient. Depth takes
+// the second difference of inverse depth instead: a receding floor has a steep depth gradient,
+// but its inverse depth is affine in screen space, so only real discontinuities remain; dividing
+// by the nearest inverse depth makes the jump relative, so edges count at every distance.
+// Only edges whose near side is out of focus need rays (partial occlusion), within that side's
+// CoC radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+#include "shared/ray_work.h"
+
+layout(set = 1, binding = 1, rgba32f) uniform readonly image2D normalDepth;
+layout(set = 1, binding = 2, r16f) uniform writeonly image2D reach;
+layout(set = 1, binding = 3, r16f) uniform writeonly image2D strength;
+
+// The 3x3 Gaussian [1 2 1] / 4 convolved with Sobel's smoothing [1 2 1] / 4, with Sobel's
+// central difference [-1 0 1] / 2, and with the second difference [1 -2 1].
+float smoothing(int i) { return float(6 - 2 * abs(i) - int(abs(i) == 2)) / 16.0; }
+float derivative(int i) { return float(sign(i) * (3 - abs(i))) / 8.0; }
+float secondDifference(int i) { return float(abs(i) == 2 ? 1 : abs(i) == 1 ? 0 : -2) / 4.0; }
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(frame.image.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  vec3 normalDx = vec3(0.0), normalDy = vec3(0.0);
+  float inverseDxx = 0.0, inverseDyy = 0.0;
+  float nearestInverse = 0.0;  // the near side of any edge the kernel sees
+  [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
+    [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
+      vec4 texel = imageLoad(normalDepth, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1));
+      float inverseDepth = 1.0 / max(texel.w, 1e-4);
+      normalDx += derivative(dx) * smoothing(dy) * texel.xyz;
+      normalDy += smoothing(dx) * derivative(dy) * texel.xyz;
+      inverseDxx += secondDifference(dx) * smoothing(dy) * inverseDepth;
+      inverseDyy += smoothing(dx) * secondDifference(dy) * inverseDepth;
+      nearestInverse = max(nearestInverse, inverseDepth);
+    }
+  }
+  // A step of relative height j gives a second difference of j / 4 next to it.
+  float depthJump = 4.0 * max(abs(inverseDxx), abs(inverseDyy)) / nearestInverse;
+  float normalGradient = sqrt(dot(normalDx, normalDx) + dot(normalDy, normalDy));
+  float edge = max(
+      smoothstep(kRayMaskDepthJumpLow, kRayMaskDepthJumpHigh, depthJump),
+      smoothstep(kRayMaskNormalLow, kRayMaskNormalHigh, normalGradient));
+  float nearCoc = abs(signedCoc(1.0 / nearestInverse));
+  // The band the kernel marks is 2 px to each side of the true edge; the margin keeps rays over
+  // the whole blur of the near side from any pixel of the band. The tile dilation reaches as far
+  // as kDofMaxCoc.
+  bool needsRays = edge > 0.0 && nearCoc >= kDofFocusZone;
+  float diameter = needsRays ? min(nearCoc + 2.0, kDofMaxCoc) : 0.0;
+  imageStore(reach, pixel, vec4(diameter));
+  imageStore(strength, pixel, vec4(needsRays ? edge : 0.0));
+}

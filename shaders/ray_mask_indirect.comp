@@ -1,0 +1,15 @@
+// Ray mask, dispatch arguments: one kRayWorkGroupSize-wide workgroup per kRayWorkGroupSize
+// entries of the work list, for the selective ray tracer's vkCmdDispatchIndirect.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 1) in;
+
+#include "shared/ray_work.h"
+
+HDOF_RAY_WORK_LIST(1, );
+
+void main() {
+  workList.header.groupsX = (workList.header.count + kRayWorkGroupSize - 1u) / kRayWorkGroupSize;
+  workList.header.groupsY = 1u;
+  workList.header.groupsZ = 1u;
+}

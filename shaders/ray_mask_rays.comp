@@ -1,0 +1,40 @@
+// Ray mask, spread along columns and ray counts: a pixel is within an edge's disc when a pixel
+// of its column reaches it (see ray_mask_spread.comp). Rays where an edge needs them or where
+// the ray-traced output is noisy: as many as the strongest edge or the variance asks for, at
+// least 1 and at most the frame's samples per pixel.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "lib/dof.glsl"
+#include "shared/ray_work.h"
+
+layout(set = 1, binding = 1, rg16f) uniform readonly image2D spread;
+layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
+// Any float format; a 1x1 zero image when there is no variance yet.
+layout(set = 1, binding = 3) uniform sampler2D variance;
+layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(frame.image.xy);
+  if (any(greaterThanEqual(pixel, size))) return;
+  int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
+  bool nearEdge = false;
+  float strongest = 0.0;
+  for (int dy = max(-radius, -pixel.y); dy <= min(radius, size.y - 1 - pixel.y); ++dy) {
+    vec2 row = imageLoad(spread, pixel + ivec2(0, dy)).xy;
+    if (row.x >= float(abs(dy))) {
+      nearEdge = true;
+      strongest = max(strongest, row.y);
+    }
+  }
+  float noise = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).r;
+  float need = max(strongest, saturate(noise / kRayMaskVarianceFull));
+  uint samples = clamp(frame.image.w, 1u, 255u);  // what r8ui holds
+  uint count = 0u;
+  if (nearEdge || noise >= kRayMaskVarianceOn)
+    count = clamp(uint(ceil(need * float(samples))), 1u, samples);
+  imageStore(rays, pixel, uvec4(count));
+}

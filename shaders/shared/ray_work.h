@@ -1,0 +1,55 @@
+// The adaptive ray mask (render/ray_mask.*, shaders/ray_mask_*.comp) and the work list it hands
+// to the selective ray tracer, shared by C++ and GLSL.
+//
+// Work list buffer: a RayWorkHeader, then one uvec2 per pixel that gets rays:
+// x = pixel x | pixel y << 16, y = its ray count. The header starts with a
+// VkDispatchIndirectCommand, so vkCmdDispatchIndirect(list, 0) runs one thread per entry in
+// workgroups of kRayWorkGroupSize.
+#ifndef HDOF_SHARED_RAY_WORK_H
+#define HDOF_SHARED_RAY_WORK_H
+#include "types.h"
+
+HDOF_NAMESPACE_BEGIN
+
+HDOF_CONST uint kRayWorkGroupSize = 64;
+
+struct RayWorkHeader {
+  uint groupsX, groupsY, groupsZ;  // VkDispatchIndirectCommand
+  uint count;                      // entries listed
+};
+
+HDOF_CONST uint kRayWorkEntrySize = 8;
+
+HDOF_FN uint packRayWorkPixel(uint x, uint y) { return x | (y << 16u); }
+HDOF_FN uvec2 unpackRayWorkPixel(uint packed) { return uvec2(packed & 0xffffu, packed >> 16u); }
+
+// Edge detection thresholds (Canny's hysteresis pair, as a ramp from no rays to all rays).
+// Depth: the relative jump in inverse depth across an edge, 1 - z_near / z_far.
+HDOF_CONST float kRayMaskDepthJumpLow = 0.08;
+HDOF_CONST float kRayMaskDepthJumpHigh = 0.3;
+// Normals: the Sobel gradient of the filtered unit normal, per pixel.
+HDOF_CONST float kRayMaskNormalLow = 0.15;
+HDOF_CONST float kRayMaskNormalHigh = 0.5;
+// Luminance variance of the ray-traced output above which a pixel gets rays without an edge,
+// and at which it gets the full sample count.
+HDOF_CONST float kRayMaskVarianceOn = 0.01;
+HDOF_CONST float kRayMaskVarianceFull = 0.1;
+
+HDOF_NAMESPACE_END
+
+#ifdef __cplusplus
+#include <cstddef>
+static_assert(sizeof(hdof::gpu::RayWorkHeader) == 16);
+static_assert(offsetof(hdof::gpu::RayWorkHeader, groupsX) == 0);
+static_assert(offsetof(hdof::gpu::RayWorkHeader, count) == 12);
+#else
+// Declares the work list as `workList` at set 1, the binding given.
+#define HDOF_RAY_WORK_LIST(bindingIndex, access)                              \
+  layout(set = 1, binding = bindingIndex, std430) access buffer RayWorkList { \
+    RayWorkHeader header;                                                     \
+    uvec2 entries[];                                                          \
+  }                                                                           \
+  workList
+#endif
+
+#endif

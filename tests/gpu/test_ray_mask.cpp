@@ -1,0 +1,228 @@
+// The adaptive ray mask: nothing on an in-focus wall; on the depth-of-field scene, rays along the
+// blurred foreground's silhouettes only, fewer as the aperture closes; the work list holds
+// exactly the pixels with rays, with dispatch arguments for them.
+#include "render/gbuffer_pass.h"
+#include "render/ray_mask.h"
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <shared/ray_work.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <set>
+
+namespace hdof::test {
+namespace {
+
+constexpr uint32_t kSamplesPerPixel = 4;
+
+// The G-buffer and the ray mask strung together by hand, with depth, rays and the work list read
+// back.
+class RayMaskRig {
+ public:
+  RayMaskRig(const std::string& sceneSpec, uint32_t width, uint32_t height)
+      : scene_(testScene(sceneSpec)),
+        targets_(testContext(), width, height),
+        gbuffer_(testContext(), scene_.scene, *scene_.gpu),
+        mask_(testContext(), width / 2 + 1, height / 2 + 1),
+        uniformBuffer_(testContext(), sizeof(gpu::FrameUniforms),
+                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "test uniforms"),
+        depthReadback_(testContext(), pixelCount() * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       gpu::MemoryUse::Readback, "test normal depth"),
+        raysReadback_(testContext(), pixelCount(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      gpu::MemoryUse::Readback, "test rays"),
+        timer_(testContext()) {
+    gbuffer_.bindTargets(targets_);
+    // Made for another size, as a session's is before its viewport changes.
+    mask_.resize(width, height);
+    listReadback_ =
+        gpu::Buffer(testContext(), mask_.workList().size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                    gpu::MemoryUse::Readback, "test work list");
+    camera_ = Camera::fromScene(scene_.scene.cameras.front());
+    suggestedFocus_ = scene_.scene.cameras.front().focusDistance.value_or(5.0f);
+  }
+
+  struct Frame {
+    std::vector<float> depth;
+    std::vector<uint8_t> rays;
+    gpu::RayWorkHeader header{};
+    std::vector<glm::uvec2> entries;
+    uint32_t listedPixels = 0;
+    double coverage = 0.0;
+    std::vector<std::pair<std::string, double>> passMs;
+  };
+
+  // lens.focusDistance 0: the scene camera's suggestion.
+  Frame render(Lens lens, const gpu::Image* variance = nullptr) {
+    if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
+    FrameSettings settings;
+    settings.width = targets_.width;
+    settings.height = targets_.height;
+    settings.samplesPerPixel = kSamplesPerPixel;
+    gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
+    std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      gbuffer_.recordVisibility(cmd, uniformBuffer_, targets_);
+      gbuffer_.recordResolve(cmd, uniformBuffer_, targets_);
+    });
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      mask_.record(cmd, timer_, uniformBuffer_, targets_, variance);
+    });
+    Frame frame;
+    frame.passMs = timer_.results();
+    frame.listedPixels = mask_.listedPixels();
+    frame.coverage = mask_.coverage();
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      VkBufferCopy region{0, 0, mask_.workList().size()};
+      vkCmdCopyBuffer(cmd, mask_.workList().get(), listReadback_.get(), 1, &region);
+      gpu::copyImageToBuffer(cmd, targets_.normalDepth, depthReadback_);
+      gpu::copyImageToBuffer(cmd, mask_.rays(), raysReadback_);
+    });
+    const auto* normalDepth = static_cast<const glm::vec4*>(depthReadback_.mapped());
+    for (size_t i = 0; i < pixelCount(); ++i) frame.depth.push_back(normalDepth[i].w);
+    const auto* rays = static_cast<const uint8_t*>(raysReadback_.mapped());
+    frame.rays.assign(rays, rays + pixelCount());
+    const auto* list = static_cast<const std::byte*>(listReadback_.mapped());
+    std::memcpy(&frame.header, list, sizeof(frame.header));
+    frame.entries.resize(frame.header.count);
+    std::memcpy(frame.entries.data(), list + sizeof(gpu::RayWorkHeader),
+                frame.entries.size() * sizeof(glm::uvec2));
+    return frame;
+  }
+
+  uint32_t width() const { return targets_.width; }
+  uint32_t height() const { return targets_.height; }
+
+ private:
+  size_t pixelCount() const { return size_t(targets_.width) * targets_.height; }
+
+  SceneOnGpu& scene_;
+  RenderTargets targets_;
+  GBufferPass gbuffer_;
+  RayMask mask_;
+  gpu::Buffer uniformBuffer_;
+  gpu::Buffer depthReadback_, raysReadback_, listReadback_;
+  gpu::GpuTimer timer_;
+  Camera camera_;
+  float suggestedFocus_ = 5.0f;
+};
+
+constexpr uint32_t kWidth = 640, kHeight = 360;
+const Lens kWideOpen{50.0f, 1.4f, 0.0f};
+
+size_t pixelsWithRays(const RayMaskRig::Frame& frame) {
+  return std::count_if(frame.rays.begin(), frame.rays.end(), [](uint8_t r) { return r > 0; });
+}
+
+// The work list holds each pixel with rays once, with its ray count, and its dispatch covers it.
+void expectListMatchesMask(const RayMaskRig::Frame& frame, uint32_t width) {
+  EXPECT_EQ(frame.header.count, pixelsWithRays(frame));
+  EXPECT_EQ(frame.listedPixels, frame.header.count);
+  EXPECT_EQ(frame.header.groupsX,
+            (frame.header.count + gpu::kRayWorkGroupSize - 1) / gpu::kRayWorkGroupSize);
+  EXPECT_EQ(frame.header.groupsY, 1u);
+  EXPECT_EQ(frame.header.groupsZ, 1u);
+  std::set<uint32_t> seen;
+  for (const glm::uvec2& entry : frame.entries) {
+    glm::uvec2 pixel = gpu::unpackRayWorkPixel(entry.x);
+    EXPECT_TRUE(seen.insert(entry.x).second) << "listed twice: " << pixel.x << ", " << pixel.y;
+    EXPECT_EQ(entry.y, frame.rays[pixel.y * width + pixel.x]);
+  }
+  for (uint8_t rays : frame.rays) EXPECT_LE(rays, kSamplesPerPixel);
+}
+
+TEST(RayMask, InFocusWallNeedsNoRays) {
+  RayMaskRig rig("builtin:wall", 321, 181);
+  RayMaskRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 3.0f});
+  EXPECT_EQ(frame.coverage, 0.0);
+  EXPECT_EQ(frame.header.count, 0u);
+  EXPECT_EQ(pixelsWithRays(frame), 0u);
+  expectListMatchesMask(frame, rig.width());
+}
+
+TEST(RayMask, NoisyPixelsGetRaysByTheirVariance) {
+  constexpr uint32_t kW = 64, kH = 48;
+  RayMaskRig rig("builtin:wall", kW, kH);
+  // Halfway between the variance that turns rays on and the one that asks for all of them.
+  float level = 0.5f * gpu::kRayMaskVarianceFull;
+  gpu::Image variance = gpu::createImage2D(
+      testContext(), kW, kH, VK_FORMAT_R32_SFLOAT,
+      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, "test variance");
+  gpu::makeGeneral(testContext(), {&variance});
+  testContext().submitAndWait([&](VkCommandBuffer cmd) {
+    VkClearColorValue value{{level, 0.0f, 0.0f, 0.0f}};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, variance.get(), VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
+  });
+  RayMaskRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 3.0f}, &variance);
+  EXPECT_EQ(frame.coverage, 1.0);
+  for (uint8_t rays : frame.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
+  expectListMatchesMask(frame, rig.width());
+}
+
+TEST(RayMask, CoversTheBlurredRailingsSilhouette) {
+  RayMaskRig rig("builtin:dof", kWidth, kHeight);
+  RayMaskRig::Frame frame = rig.render(kWideOpen);
+  // The railing at 0.8 m where the background (beyond 2 m) is next to it.
+  size_t silhouette = 0, covered = 0;
+  for (uint32_t y = 1; y + 1 < kHeight; ++y) {
+    for (uint32_t x = 1; x + 1 < kWidth; ++x) {
+      size_t i = size_t(y) * kWidth + x;
+      if (frame.depth[i] >= 1.0f) continue;
+      bool nextToBackground = false;
+      for (size_t j : {i - 1, i + 1, i - kWidth, i + kWidth})
+        nextToBackground = nextToBackground || frame.depth[j] > 2.0f;
+      if (!nextToBackground) continue;
+      ++silhouette;
+      covered += frame.rays[i] > 0;
+    }
+  }
+  ASSERT_GT(silhouette, 100u);
+  EXPECT_GE(double(covered) / double(silhouette), 0.9);
+  EXPECT_GT(frame.coverage, 0.0);
+  EXPECT_LT(frame.coverage, 0.3);
+  expectListMatchesMask(frame, rig.width());
+  std::printf("builtin:dof f/1.4: coverage %.3f, railing silhouette covered %zu of %zu\n",
+              frame.coverage, covered, silhouette);
+}
+
+TEST(RayMask, ClosingTheApertureNeedsFewerRays) {
+  RayMaskRig rig("builtin:dof", kWidth, kHeight);
+  RayMaskRig::Frame wide = rig.render(kWideOpen);
+  RayMaskRig::Frame narrow = rig.render(Lens{50.0f, 8.0f, 0.0f});
+  EXPECT_LT(narrow.coverage, 0.5 * wide.coverage);
+  expectListMatchesMask(narrow, rig.width());
+  std::printf("builtin:dof coverage: f/1.4 %.3f, f/8 %.3f\n", wide.coverage, narrow.coverage);
+}
+
+// Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
+TEST(RayMask, ReportsEveryPassTime) {
+  RayMaskRig rig("builtin:dof", kWidth, kHeight);
+  constexpr int kFrames = 10;
+  std::vector<std::pair<std::string, std::vector<double>>> times;  // in recording order
+  for (int frame = 0; frame <= kFrames; ++frame) {
+    RayMaskRig::Frame result = rig.render(kWideOpen);
+    if (frame == 0) continue;  // shader compilation
+    times.resize(result.passMs.size());
+    for (size_t i = 0; i < result.passMs.size(); ++i) {
+      times[i].first = result.passMs[i].first;
+      times[i].second.push_back(result.passMs[i].second);
+    }
+  }
+  EXPECT_EQ(times.size(), 6u);
+  double total = 0.0;
+  std::printf("builtin:dof %ux%u f/1.4, median of %d frames:\n", kWidth, kHeight, kFrames);
+  for (auto& [name, ms] : times) {
+    std::sort(ms.begin(), ms.end());
+    total += ms[ms.size() / 2];
+    std::printf("  %-18s %6.2f ms\n", name.c_str(), ms[ms.size() / 2]);
+  }
+  std::printf("  %-18s %6.2f ms\n", "sum", total);
+}
+
+}  // namespace
+}  // namespace hdof::test
