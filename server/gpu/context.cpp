@@ -165,7 +165,7 @@ Context::Context(const ContextOptions& options) {
   std::vector<VkPhysicalDevice> devices(count);
   VK_CHECK(vkEnumeratePhysicalDevices(instance_, &count, devices.data()));
   if (devices.empty()) {
-    vkDestroyInstance(instance_, nullptr);
+    releaseInstance();
     throw NoVulkanError(
         "no Vulkan device found: install a driver (on Debian: apt-get install "
         "mesa-vulkan-drivers)");
@@ -198,14 +198,14 @@ Context::Context(const ContextOptions& options) {
       std::string names;
       for (size_t i = 0; i < candidates.size(); ++i)
         names += (i ? ", " : "") + std::to_string(i) + ": " + candidates[i].properties.deviceName;
-      vkDestroyInstance(instance_, nullptr);
+      releaseInstance();
       throw DeviceChoiceError("no Vulkan device matches '" + options.device +
                               "' (devices: " + names + ")");
     }
     if (!chosen->rejection.empty()) {
       std::string message = std::string("device ") + chosen->properties.deviceName + " " +
                             chosen->rejection + "; pick another with --device";
-      vkDestroyInstance(instance_, nullptr);
+      releaseInstance();
       throw DeviceChoiceError(message);
     }
   } else {
@@ -217,7 +217,7 @@ Context::Context(const ContextOptions& options) {
       std::string message =
           "no usable Vulkan device: " + std::string(candidates[0].properties.deviceName) + " " +
           candidates[0].rejection + " (on Debian: apt-get install mesa-vulkan-drivers)";
-      vkDestroyInstance(instance_, nullptr);
+      releaseInstance();
       throw NoVulkanError(message);
     }
   }
@@ -269,12 +269,18 @@ Context::~Context() {
     vkDestroyCommandPool(device_, commandPool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
+  releaseInstance();
+}
+
+void Context::releaseInstance() {
   if (messenger_) {
     auto destroyMessenger = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
     if (destroyMessenger) destroyMessenger(instance_, messenger_, nullptr);
+    messenger_ = VK_NULL_HANDLE;
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);
+  instance_ = VK_NULL_HANDLE;
 }
 
 VkCommandBuffer Context::allocateCommandBuffer() const {

@@ -52,6 +52,9 @@ class Context {
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
 
  private:
+  // Destroys the debug messenger and the instance (also on the constructor's error paths).
+  void releaseInstance();
+
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
