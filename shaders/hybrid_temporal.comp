@@ -1,0 +1,106 @@
+// Temporal accumulation of the hybrid's ray-traced layers (exponential moving average, as in
+// TAA): the near layer reprojected with the motion vectors, the far layer through its average far
+// world position (the neighbours' where a pixel had no far hit), history rejected where the
+// surface under the near reprojection changed depth (disocclusion) or on a cut; luminance
+// moments give the variance that the next frame's ray mask reads, newly traced pixels counting
+// as noisy. Pixels the mask left out this frame drop their history.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+
+layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui: rays traced this frame
+layout(set = 1, binding = 2) uniform sampler2D nearLayer;  // rgba16f: colour, hit ratio
+layout(set = 1, binding = 3) uniform sampler2D farLayer;  // rgba16f: colour, 1 - hit ratio
+layout(set = 1, binding = 4) uniform sampler2D farPosition;  // rgba32f: xyz, w far weight
+layout(set = 1, binding = 5) uniform sampler2D motion;  // rg16f, pixels
+layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linear depth
+layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
+layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour, unused
+layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, frames, depth
+layout(set = 1, binding = 10) uniform writeonly image2D outNear;
+layout(set = 1, binding = 11) uniform writeonly image2D outFar;
+layout(set = 1, binding = 12) uniform writeonly image2D outMoments;
+layout(set = 1, binding = 13) uniform writeonly image2D outVariance;  // r16f
+
+layout(push_constant) uniform Push {
+  uint reset;  // 1 on a camera cut or the first frame: no history at all
+  float minBlend;  // the moving average's weight of the new frame once history is long
+} push;
+
+const float kMaxFrames = 64.0;
+const float kDisocclusion = 0.1;  // relative depth change that rejects the near history
+const float kNewPixelVariance = 1.0;  // what a pixel with little history reports: full rays
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.image.xy))); }
+
+// The far world position this pixel sees through the near layer: its own, else the weighted
+// average of its 3x3 neighbours' (valid when w > 0).
+vec4 farWorldPosition(ivec2 pixel) {
+  vec4 own = texelFetch(farPosition, pixel, 0);
+  if (own.w > 0.0) return vec4(own.xyz, 1.0);
+  vec4 sum = vec4(0.0);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.image.xy) - 1);
+      vec4 p = texelFetch(farPosition, q, 0);
+      if (texelFetch(rays, q, 0).r > 0u && p.w > 0.0) sum += vec4(p.xyz * p.w, p.w);
+    }
+  return sum.w > 0.0 ? vec4(sum.xyz / sum.w, 1.0) : vec4(0.0);
+}
+
+vec2 previousPixelOf(vec3 world) {
+  vec4 clip = frame.previousViewProj * vec4(world, 1.0);
+  return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  float depth = texelFetch(normalDepth, pixel, 0).w;
+  if (texelFetch(rays, pixel, 0).r == 0u) {
+    imageStore(outNear, pixel, vec4(0.0));
+    imageStore(outFar, pixel, vec4(0.0));
+    imageStore(outMoments, pixel, vec4(0.0, 0.0, 0.0, depth));
+    imageStore(outVariance, pixel, vec4(0.0));
+    return;
+  }
+  vec4 near = texelFetch(nearLayer, pixel, 0);
+  vec4 far = texelFetch(farLayer, pixel, 0);
+  vec2 center = vec2(pixel) + 0.5;
+
+  // Near layer: where the surface under this pixel was, if it was that surface.
+  vec2 previousNear = center + texelFetch(motion, pixel, 0).xy;
+  vec4 moments = vec4(0.0);
+  bool nearValid = push.reset == 0u && insideImage(previousNear);
+  if (nearValid) {
+    moments = texelFetch(historyMoments, ivec2(previousNear), 0);
+    nearValid = moments.z > 0.0 && abs(moments.w - depth) <= kDisocclusion * depth;
+  }
+  float frames = nearValid ? moments.z : 0.0;
+  float blend = max(1.0 / (frames + 1.0), push.minBlend);
+  vec4 nearHistory = nearValid ? texelFetch(historyNear, ivec2(previousNear), 0) : near;
+  vec4 outNearValue = vec4(mix(nearHistory.rgb, near.rgb, blend), mix(nearHistory.a, near.a, blend));
+
+  // Far layer: where the background seen through this pixel was.
+  vec4 world = farWorldPosition(pixel);
+  vec2 previousFar = world.w > 0.0 ? previousPixelOf(world.xyz) : previousNear;
+  bool farValid = push.reset == 0u && insideImage(previousFar) &&
+                  texelFetch(historyMoments, ivec2(previousFar), 0).z > 0.0;
+  vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : far.rgb;
+  float farBlend = farValid ? blend : 1.0;
+  vec3 outFarColor = mix(farHistory, far.rgb, farBlend);
+
+  float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
+  vec2 m = nearValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
+  float accumulated = min(frames + 1.0, kMaxFrames);
+  // Few frames of history say little about the variance: such pixels ask for full rays.
+  float variance = accumulated < 4.0 ? kNewPixelVariance : max(m.y - m.x * m.x, 0.0);
+  imageStore(outNear, pixel, outNearValue);
+  imageStore(outFar, pixel, vec4(outFarColor, 1.0));
+  imageStore(outMoments, pixel, vec4(m, accumulated, depth));
+  imageStore(outVariance, pixel, vec4(variance));
+}

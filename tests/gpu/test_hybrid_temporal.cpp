@@ -1,0 +1,100 @@
+// Temporal accumulation of the hybrid's ray-traced layers: history grows while the view rests,
+// the variance that drives the ray mask settles, and a cut starts over.
+#include "render/gbuffer_pass.h"
+#include "render/hybrid_temporal_pass.h"
+#include "render/ray_mask.h"
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include <glm/gtc/packing.hpp>
+
+namespace hdof::test {
+namespace {
+
+constexpr uint32_t kWidth = 160, kHeight = 90, kRaysPerPixel = 4;
+
+// The hybrid's passes up to the temporal accumulation, strung together by hand.
+struct TemporalRig {
+  SceneOnGpu& scene = testScene("builtin:dof");
+  RenderTargets targets{testContext(), kWidth, kHeight};
+  GBufferPass gbuffer{testContext(), scene.scene, *scene.gpu};
+  RayMask mask{testContext(), kWidth, kHeight};
+  HybridTraceLayers layers{testContext(), kWidth, kHeight};
+  HybridTracePass trace{testContext(), *scene.gpu};
+  HybridTemporalPass temporal{testContext(), kWidth, kHeight};
+  gpu::Buffer uniforms{testContext(), sizeof(gpu::FrameUniforms),
+                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "uniforms"};
+  gpu::GpuTimer timer{testContext()};
+  uint32_t frame = 0;
+
+  TemporalRig() { gbuffer.bindTargets(targets); }
+
+  void render(bool cut) {
+    Lens lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+    FrameSettings settings{kWidth, kHeight, frame, kRaysPerPixel};
+    gpu::FrameUniforms u = makeFrameUniforms(
+        scene.scene, Camera::fromScene(scene.scene.cameras.front()), lens, settings);
+    std::memcpy(uniforms.mapped(), &u, sizeof(u));
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      gbuffer.recordVisibility(cmd, uniforms, targets);
+      gbuffer.recordResolve(cmd, uniforms, targets);
+      gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+      mask.record(cmd, timer, uniforms, targets, frame > 0 ? &temporal.variance() : nullptr);
+      trace.record(cmd, uniforms, mask.workList(), layers, frame * kRaysPerPixel);
+      gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+      temporal.record(cmd, uniforms, mask.rays(), layers, targets, cut || frame == 0);
+    });
+    ++frame;
+  }
+};
+
+TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
+  TemporalRig rig;
+  for (int i = 0; i < 3; ++i) rig.render(false);
+  std::vector<glm::vec4> moments = readImage(rig.temporal.current().moments);
+  int traced = 0;
+  for (const glm::vec4& m : moments) {
+    if (m.z == 0.0f) continue;
+    ++traced;
+    EXPECT_EQ(m.z, 3.0f);
+  }
+  EXPECT_GT(traced, int(kWidth * kHeight / 20)) << "the mask traced something";
+
+  for (int i = 0; i < 9; ++i) rig.render(false);
+  moments = readImage(rig.temporal.current().moments);
+  int settled = 0, counted = 0;
+  std::vector<float> variances;
+  {
+    gpu::Buffer buffer(testContext(), kWidth * kHeight * 2, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       gpu::MemoryUse::Readback, "variance");
+    testContext().submitAndWait(
+        [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, rig.temporal.variance(), buffer); });
+    const auto* halves = static_cast<const uint16_t*>(buffer.mapped());
+    for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i)
+      variances.push_back(glm::unpackHalf2x16(halves[i]).x);
+  }
+  for (size_t i = 0; i < moments.size(); ++i) {
+    if (moments[i].z < 12.0f) continue;  // pixels the mask kept all along
+    ++counted;
+    settled += variances[i] < 0.5f;
+  }
+  ASSERT_GT(counted, 0);
+  EXPECT_GT(settled, counted * 3 / 4) << "twelve frames in, most traced pixels are settled";
+
+  rig.render(true);
+  moments = readImage(rig.temporal.current().moments);
+  for (const glm::vec4& m : moments) {
+    if (m.z > 0.0f) {
+      ASSERT_EQ(m.z, 1.0f) << "a cut drops the history";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hdof::test
