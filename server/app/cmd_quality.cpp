@@ -109,6 +109,7 @@ int runQuality(std::span<const std::string> args) {
 
   std::vector<ModeRun> runs = {{RenderMode::Pinhole},
                                {RenderMode::PostProcess},
+                               {RenderMode::Hybrid, 4, {1, 16}},
                                {RenderMode::RayTrace, 1, {1, 16}},
                                {RenderMode::RayTrace, 4, {1, 16}}};
   std::vector<Row> rows;

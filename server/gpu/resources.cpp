@@ -107,6 +107,15 @@ Image::Image(const Context& context, const ImageDesc& desc, const std::string& n
   context.setName(VK_OBJECT_TYPE_IMAGE_VIEW, reinterpret_cast<uint64_t>(view), name + " view");
 }
 
+Sampler createNearestSampler(const Context& context) {
+  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
+  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, &sampler));
+  return Sampler(context.device(), sampler);
+}
+
 Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
                     VkImageUsageFlags usage, const std::string& name) {
   ImageDesc desc;

@@ -119,6 +119,9 @@ class Image {
   ImageDesc desc_;
 };
 
+// A sampler that reads texels as they are (nearest, clamped): how passes read render targets.
+Sampler createNearestSampler(const Context& context);
+
 // A single-level 2D colour image, as render targets are.
 Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
                     VkImageUsageFlags usage, const std::string& name);

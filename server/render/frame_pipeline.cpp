@@ -12,6 +12,7 @@ constexpr struct {
   const char* name;
 } kModes[] = {{RenderMode::Pinhole, "pinhole"},
               {RenderMode::PostProcess, "postprocess"},
+              {RenderMode::Hybrid, "hybrid"},
               {RenderMode::RayTrace, "raytrace"},
               {RenderMode::Reference, "reference"}};
 
@@ -68,6 +69,7 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
       targets_(std::make_unique<RenderTargets>(context, width, height)),
       gbuffer_(context, scene, gpuScene),
       postProcess_(context, width, height),
+      hybrid_(context, gpuScene, width, height),
       reference_(context, gpuScene),
       tonemap_(context),
       frameUniforms_(context, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
@@ -87,6 +89,7 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   targets_ = std::make_unique<RenderTargets>(context_, width, height);
   gbuffer_.bindTargets(*targets_);
   postProcess_.resize(width, height);
+  hybrid_.resize(width, height);
   accumulation_.valid = false;
   readback_ = gpu::Buffer();
   previousViewProj_.reset();
@@ -116,15 +119,21 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   switch (request.mode) {
     case RenderMode::Pinhole:
     case RenderMode::PostProcess:
+    case RenderMode::Hybrid:
       timer_.begin(cmd, "visibility");
       gbuffer_.recordVisibility(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
       timer_.begin(cmd, "gbuffer");
       gbuffer_.recordResolve(cmd, frameUniforms_, *targets_);
       timer_.end(cmd);
-      if (request.mode == RenderMode::PostProcess) {
+      if (request.mode != RenderMode::Pinhole) {
         postProcess_.record(cmd, timer_, frameUniforms_, *targets_);
         radiance = &postProcess_.output();
+      }
+      if (request.mode == RenderMode::Hybrid) {
+        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(),
+                       hybridFrames_++ * request.settings.samplesPerPixel);
+        radiance = &hybrid_.output();
       }
       break;
     case RenderMode::RayTrace:
@@ -172,6 +181,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
   if (request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference)
     stats.accumulatedSamples = accumulation_.samples;
+  if (request.mode == RenderMode::Hybrid) stats.maskCoverage = hybrid_.maskCoverage();
   return stats;
 }
 

@@ -6,6 +6,7 @@
 #include "image/image.h"
 #include "render/camera.h"
 #include "render/gbuffer_pass.h"
+#include "render/hybrid_dof.h"
 #include "render/postprocess_dof.h"
 #include "render/reference_pass.h"
 #include "render/tonemap_pass.h"
@@ -19,11 +20,11 @@
 
 namespace hdof {
 
-enum class RenderMode { Pinhole, PostProcess, RayTrace, Reference };
+enum class RenderMode { Pinhole, PostProcess, Hybrid, RayTrace, Reference };
 
 const char* modeName(RenderMode mode);
 std::optional<RenderMode> parseMode(const std::string& name);
-std::string modeNames();  // "pinhole|postprocess|raytrace|reference"
+std::string modeNames();  // "pinhole|postprocess|hybrid|raytrace|reference"
 
 struct FrameRequest {
   RenderMode mode = RenderMode::Pinhole;
@@ -42,6 +43,7 @@ struct FrameStats {
   double gpuMs = 0.0;                                  // sum of the passes
   double wallMs = 0.0;                                 // submit to finish, as the CPU saw it
   uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far
+  double maskCoverage = 0.0;        // hybrid: the fraction of pixels the ray mask traced
   double passMsOf(const std::string& pass) const;
 };
 
@@ -61,7 +63,10 @@ class FramePipeline {
                              const std::function<void(uint32_t)>& onProgress = {});
   void resize(uint32_t width, uint32_t height);
   // Forgets the temporal history: the next raytrace frame starts a new accumulation.
-  void resetHistory() { accumulation_.valid = false; }
+  void resetHistory() {
+    accumulation_.valid = false;
+    hybrid_.resetHistory();
+  }
   uint32_t width() const { return targets_->width; }
   uint32_t height() const { return targets_->height; }
   // The last rendered frame, tonemapped.
@@ -81,6 +86,8 @@ class FramePipeline {
   std::unique_ptr<RenderTargets> targets_;
   GBufferPass gbuffer_;
   PostProcessDof postProcess_;
+  HybridDof hybrid_;
+  uint32_t hybridFrames_ = 0;  // frames since the hybrid history started
   ReferencePass reference_;
   TonemapPass tonemap_;
   gpu::Buffer frameUniforms_;

@@ -63,12 +63,7 @@ HybridTemporalPass::HybridTemporalPass(const gpu::Context& context, uint32_t wid
                                           {kStorage},
                                           {kStorage}},
                                          sizeof(TemporalPush));
-  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
-  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VkSampler sampler = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, &sampler));
-  sampler_ = gpu::Sampler(context.device(), sampler);
+  sampler_ = gpu::createNearestSampler(context);
 }
 
 HybridTemporalPass::~HybridTemporalPass() = default;

@@ -6,19 +6,6 @@
 
 namespace hdof {
 
-namespace {
-
-gpu::Sampler createNearestSampler(const gpu::Context& context) {
-  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
-  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VkSampler sampler = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, &sampler));
-  return gpu::Sampler(context.device(), sampler);
-}
-
-}  // namespace
-
 RayMaskRaysPass::RayMaskRaysPass(const gpu::Context& context)
     : context_(context),
       pipeline_(gpu::createComputePipeline(context, "ray_mask_rays.comp", VK_NULL_HANDLE,
@@ -27,7 +14,7 @@ RayMaskRaysPass::RayMaskRaysPass(const gpu::Context& context)
                                             kDofImage,
                                             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
                                             kDofImage})),
-      sampler_(createNearestSampler(context)) {}
+      sampler_(gpu::createNearestSampler(context)) {}
 
 void RayMaskRaysPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
                              const gpu::Image& spread, const gpu::Image& dilatedTiles,

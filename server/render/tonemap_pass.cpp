@@ -9,14 +9,8 @@ TonemapPass::TonemapPass(const gpu::Context& context)
       pipeline_(gpu::createComputePipeline(context, "tonemap.comp", VK_NULL_HANDLE,
                                            {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
                                             {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER},
-                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
-  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
-  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VkSampler sampler = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, &sampler));
-  sampler_ = gpu::Sampler(context.device(), sampler);
-}
+                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})),
+      sampler_(gpu::createNearestSampler(context)) {}
 
 void TonemapPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
                          const gpu::Image& radiance, const RenderTargets& targets) const {

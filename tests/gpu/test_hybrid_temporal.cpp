@@ -98,3 +98,37 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
 
 }  // namespace
 }  // namespace hdof::test
+
+namespace hdof::test {
+namespace {
+
+TEST(HybridMode, RendersThroughTheFramePipeline) {
+  RenderSpec spec;
+  spec.width = 192;
+  spec.height = 108;
+  spec.lens.fNumber = 1.4f;
+  spec.mode = RenderMode::PostProcess;
+  ImageRgba8 postProcess = renderImage(spec);
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 2;
+  spec.frames = 3;
+  ImageRgba8 hybrid = renderImage(spec);
+  double psnr = compareImages(hybrid, postProcess).psnrDb;
+  EXPECT_GT(psnr, 20.0) << "the hybrid starts from the post-process";
+  EXPECT_LT(psnr, 60.0) << "and traces rays where the mask asks";
+
+  SceneOnGpu& scene = testScene("builtin:dof");
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+  FrameRequest request;
+  request.mode = RenderMode::Hybrid;
+  request.camera = Camera::fromScene(scene.scene.cameras.front());
+  request.lens = Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+  request.settings = {spec.width, spec.height, 0, 2};
+  FrameStats stats = pipeline.render(request);
+  EXPECT_GT(stats.maskCoverage, 0.01);
+  EXPECT_LT(stats.maskCoverage, 0.8);
+  EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
+}
+
+}  // namespace
+}  // namespace hdof::test

@@ -1,0 +1,44 @@
+// The hybrid depth of field (Tan, Chua, Biette, Bhojan 2020), passes 3-7 after the G-buffer and
+// the post-process: the adaptive ray mask, the selective ray trace over its work list, temporal
+// accumulation and the composite. Owns its images and the temporal history.
+#pragma once
+
+#include "render/hybrid_composite_pass.h"
+#include "render/hybrid_temporal_pass.h"
+#include "render/hybrid_trace_pass.h"
+#include "render/ray_mask.h"
+
+#include <memory>
+
+namespace hdof {
+
+class HybridDof {
+ public:
+  HybridDof(const gpu::Context& context, const GpuScene& scene, uint32_t width, uint32_t height);
+  ~HybridDof();
+
+  void resize(uint32_t width, uint32_t height);
+  // Forgets the history: the next frame starts the accumulation over (a cut).
+  void resetHistory() { hasHistory_ = false; }
+  // Reads the G-buffer in targets and the post-process's output. raysPerPixel (the frame
+  // uniforms' samples per pixel) caps the mask's rays; firstSample advances every frame.
+  void record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
+              const RenderTargets& targets, const gpu::Image& postProcess, uint32_t firstSample);
+
+  // rgba16f, full resolution, HDR.
+  const gpu::Image& output() const { return *output_; }
+  // After the frame has finished: the fraction of pixels the mask traced.
+  double maskCoverage() const { return mask_.coverage(); }
+
+ private:
+  const gpu::Context& context_;
+  RayMask mask_;
+  std::unique_ptr<HybridTraceLayers> layers_;
+  HybridTracePass trace_;
+  HybridTemporalPass temporal_;
+  HybridCompositePass composite_;
+  std::unique_ptr<gpu::Image> output_;
+  bool hasHistory_ = false;
+};
+
+}  // namespace hdof

@@ -1,0 +1,54 @@
+// Hybrid composite: where the ray mask traced, the accumulated ray-traced layers joined by the
+// accumulated hit ratio, placed by the pixel's circle of confusion: in the focus zone the sharp
+// raster colour seen past the near layer; in the near field the ray-traced colour, except bright
+// specular bokeh where the post-process wins by the specular intensity; in the far field the
+// ray-traced colour where near geometry covers the pixel (hit ratio), the post-process elsewhere.
+// Where the mask did not trace, the post-process.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "shared/dof.h"
+
+layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
+layout(set = 1, binding = 2) uniform sampler2D sharp;  // rgba16f: the G-buffer's colour
+layout(set = 1, binding = 3) uniform sampler2D specular;  // rgba16f: its specular part
+layout(set = 1, binding = 4) uniform sampler2D normalDepth;  // rgba32f
+layout(set = 1, binding = 5) uniform sampler2D postProcess;  // rgba16f
+layout(set = 1, binding = 6) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
+layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour
+layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
+
+// Hit ratio over which the far field turns from post-process to ray-traced colour.
+const float kFarBlendRatio = 0.1;
+// Specular radiance at which a near-field bokeh highlight is left to the post-process.
+const float kBokehSpecular = 4.0;
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  vec3 pp = texelFetch(postProcess, pixel, 0).rgb;
+  if (texelFetch(rays, pixel, 0).r == 0u) {
+    imageStore(outColor, pixel, vec4(pp, 1.0));
+    return;
+  }
+  vec4 near = texelFetch(historyNear, pixel, 0);
+  vec3 far = texelFetch(historyFar, pixel, 0).rgb;
+  float ratio = clamp(near.a, 0.0, 1.0);
+  vec3 traced = near.rgb * ratio + far * (1.0 - ratio);
+  float depth = texelFetch(normalDepth, pixel, 0).w;
+  float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
+  vec3 color;
+  if (abs(coc) < kDofFocusZone) {
+    color = mix(texelFetch(sharp, pixel, 0).rgb, near.rgb, ratio);
+  } else if (coc < 0.0) {
+    float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
+    color = mix(traced, pp, bokeh);
+  } else {
+    color = mix(pp, traced, smoothstep(0.0, kFarBlendRatio, ratio));
+  }
+  imageStore(outColor, pixel, vec4(color, 1.0));
+}
