@@ -43,7 +43,7 @@ void writeFrame(const std::string& path, const ImageRgba8& image) {
 int runRender(std::span<const std::string> args) {
   SceneOptions sceneOptions;
   LensOptions lensOptions;
-  std::string mode = "pinhole", size = "640x360", out, cameraPathFile;
+  std::string mode = "pinhole", size = "640x360", out, cameraPathFile, view = "final";
   uint32_t spp = 0, frames = 1;
   bool noJitter = false;
   ArgParser parser(
@@ -64,6 +64,7 @@ int runRender(std::span<const std::string> args) {
   parser.flag("--no-pixel-jitter",
               "ray tracing: rays through pixel centres, as the raster samples (no antialiasing)",
               &noJitter);
+  parser.option("--view", debugViewNames(), "hybrid: a debug view instead of the image", &view);
   parser.option("--frames", "N", "frames to render (default 1)", &frames);
   parser.option("--camera-path", "FILE.json", "keyframes the camera follows over the frames",
                 &cameraPathFile);
@@ -74,6 +75,10 @@ int runRender(std::span<const std::string> args) {
   checkOutputName(out);
   std::optional<RenderMode> renderMode = parseMode(mode);
   if (!renderMode) throw UsageError("unknown mode '" + mode + "' (modes: " + modeNames() + ")");
+  std::optional<DebugView> debugView = parseDebugView(view);
+  if (!debugView) throw UsageError("unknown view '" + view + "' (views: " + debugViewNames() + ")");
+  if (*debugView != DebugView::Final && *renderMode != RenderMode::Hybrid)
+    throw UsageError("--view " + view + " shows a stage of the hybrid: use it with --mode hybrid");
   if (!parser.given("--spp")) spp = *renderMode == RenderMode::Reference ? 64 : 1;
   if (spp < 1 || spp > 65536) throw UsageError("--spp must be 1 to 65536");
   if (frames < 1 || frames > 100000) throw UsageError("--frames must be 1 to 100000");
@@ -95,6 +100,7 @@ int runRender(std::span<const std::string> args) {
   request.mode = *renderMode;
   request.settings.pixelJitter = !noJitter;
   request.settings.samplesPerPixel = spp;
+  request.view = *debugView;
 
   uint64_t work = uint64_t(frames) * (request.mode == RenderMode::Reference ? spp : 1);
   Progress progress(frames > 1 ? "frames" : modeName(request.mode), work);

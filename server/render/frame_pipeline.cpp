@@ -132,7 +132,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       }
       if (request.mode == RenderMode::Hybrid) {
         hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(),
-                       hybridFrames_++ * request.settings.samplesPerPixel);
+                       hybridFrames_++ * request.settings.samplesPerPixel, request.view);
         radiance = &hybrid_.output();
       }
       break;

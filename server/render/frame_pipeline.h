@@ -36,6 +36,7 @@ struct FrameRequest {
   // accumulates while the camera and lens stay the same and starts over when they change.
   uint32_t firstSample = 0;
   bool accumulate = false;
+  DebugView view = DebugView::Final;  // hybrid: what the frame shows
 };
 
 struct FrameStats {

@@ -27,6 +27,7 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene, uint32_
       trace_(context, scene),
       temporal_(context, width, height),
       composite_(context),
+      debugView_(context),
       output_(makeOutput(context, width, height)) {}
 
 HybridDof::~HybridDof() = default;
@@ -43,7 +44,7 @@ void HybridDof::resize(uint32_t width, uint32_t height) {
 
 void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
                        const RenderTargets& targets, const gpu::Image& postProcess,
-                       uint32_t firstSample) {
+                       uint32_t firstSample, DebugView view) {
   computeToCompute(cmd);
   mask_.record(cmd, timer, frameUniforms, targets, hasHistory_ ? &temporal_.variance() : nullptr);
   timer.begin(cmd, "hybrid_trace");
@@ -55,8 +56,12 @@ void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buf
   timer.end(cmd);
   computeToCompute(cmd);
   timer.begin(cmd, "hybrid_composite");
-  composite_.record(cmd, frameUniforms, mask_.rays(), targets, postProcess, temporal_.current(),
-                    *output_);
+  if (view == DebugView::Final)
+    composite_.record(cmd, frameUniforms, mask_.rays(), targets, postProcess, temporal_.current(),
+                      *output_);
+  else
+    debugView_.record(cmd, frameUniforms, view, mask_.rays(), targets, temporal_.current(),
+                      *output_);
   timer.end(cmd);
   computeToCompute(cmd);
   hasHistory_ = true;

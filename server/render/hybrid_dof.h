@@ -3,6 +3,7 @@
 // accumulation and the composite. Owns its images and the temporal history.
 #pragma once
 
+#include "render/debug_view_pass.h"
 #include "render/hybrid_composite_pass.h"
 #include "render/hybrid_temporal_pass.h"
 #include "render/hybrid_trace_pass.h"
@@ -22,8 +23,10 @@ class HybridDof {
   void resetHistory() { hasHistory_ = false; }
   // Reads the G-buffer in targets and the post-process's output. raysPerPixel (the frame
   // uniforms' samples per pixel) caps the mask's rays; firstSample advances every frame.
+  // view other than Final draws that debug view into output() instead of the composite.
   void record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-              const RenderTargets& targets, const gpu::Image& postProcess, uint32_t firstSample);
+              const RenderTargets& targets, const gpu::Image& postProcess, uint32_t firstSample,
+              DebugView view = DebugView::Final);
 
   // rgba16f, full resolution, HDR.
   const gpu::Image& output() const { return *output_; }
@@ -37,6 +40,7 @@ class HybridDof {
   HybridTracePass trace_;
   HybridTemporalPass temporal_;
   HybridCompositePass composite_;
+  DebugViewPass debugView_;
   std::unique_ptr<gpu::Image> output_;
   bool hasHistory_ = false;
 };

@@ -68,6 +68,8 @@ TEST(Cli, BadRenderInputIsAOneLineErrorWithExitCode2) {
   expectUsageError("render --out picture.bmp", "picture.bmp");
   expectUsageError("frobnicate", "frobnicate");
   expectUsageError("render --device no-such-gpu " + kOut, "no-such-gpu");
+  expectUsageError("render --view mask " + kOut, "--mode hybrid");
+  expectUsageError("render --mode hybrid --view sideways " + kOut, "sideways");
 }
 
 TEST(Cli, CorruptSceneFileIsAOneLineError) {

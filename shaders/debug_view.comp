@@ -1,0 +1,44 @@
+// Debug views of the hybrid, as HDR colour for the tonemap: the ray mask (rays per pixel over the
+// cap), the accumulated hit ratio, the signed circle of confusion (near field blue, far field
+// red, the focus zone black), and the accumulated near and far layers.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "lib/frame.glsl"
+#include "shared/dof.h"
+
+layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
+layout(set = 1, binding = 2) uniform sampler2D normalDepth;  // rgba32f
+layout(set = 1, binding = 3) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
+layout(set = 1, binding = 4) uniform sampler2D historyFar;  // rgba16f
+layout(set = 1, binding = 5) uniform writeonly image2D outColor;  // rgba16f
+
+layout(push_constant) uniform Push {
+  uint view;  // DebugView in render/frame_pipeline.h: 1 mask, 2 hit ratio, 3 CoC, 4 near, 5 far
+} push;
+
+// The tonemap's filmic curve maps this to about white.
+const float kWhite = 8.0;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  bool traced = texelFetch(rays, pixel, 0).r > 0u;
+  vec3 color = vec3(0.0);
+  if (push.view == 1u) {
+    color = vec3(float(texelFetch(rays, pixel, 0).r) / float(max(frame.image.w, 1u))) * kWhite;
+  } else if (push.view == 2u) {
+    color = traced ? vec3(texelFetch(historyNear, pixel, 0).a) * kWhite : vec3(0.0, 0.0, 0.05);
+  } else if (push.view == 3u) {
+    float depth = texelFetch(normalDepth, pixel, 0).w;
+    float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
+    float level = abs(coc) < kDofFocusZone ? 0.0 : min(abs(coc) / 32.0, 1.0) * kWhite;
+    color = coc < 0.0 ? vec3(0.1, 0.3, 1.0) * level : vec3(1.0, 0.3, 0.1) * level;
+  } else if (push.view == 4u) {
+    color = traced ? texelFetch(historyNear, pixel, 0).rgb : vec3(0.0);
+  } else if (push.view == 5u) {
+    color = traced ? texelFetch(historyFar, pixel, 0).rgb : vec3(0.0);
+  }
+  imageStore(outColor, pixel, vec4(color, 1.0));
+}
