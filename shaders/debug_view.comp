@@ -10,8 +10,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
 layout(set = 1, binding = 2) uniform sampler2D normalDepth;  // rgba32f
-layout(set = 1, binding = 3) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
-layout(set = 1, binding = 4) uniform sampler2D historyFar;  // rgba16f
+layout(set = 1, binding = 3) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
+layout(set = 1, binding = 4) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
 layout(set = 1, binding = 5) uniform writeonly image2D outColor;  // rgba16f
 
 layout(push_constant) uniform Push {
@@ -36,9 +36,11 @@ void main() {
     float level = abs(coc) < kDofFocusZone ? 0.0 : min(abs(coc) / 32.0, 1.0) * kWhite;
     color = coc < 0.0 ? vec3(0.1, 0.3, 1.0) * level : vec3(1.0, 0.3, 0.1) * level;
   } else if (push.view == 4u) {
-    color = traced ? texelFetch(historyNear, pixel, 0).rgb : vec3(0.0);
+    vec4 near = texelFetch(historyNear, pixel, 0);
+    color = traced && near.a > 0.0 ? near.rgb / near.a : vec3(0.0);
   } else if (push.view == 5u) {
-    color = traced ? texelFetch(historyFar, pixel, 0).rgb : vec3(0.0);
+    float farShare = 1.0 - texelFetch(historyNear, pixel, 0).a;
+    color = traced && farShare > 0.0 ? texelFetch(historyFar, pixel, 0).rgb / farShare : vec3(0.0);
   }
   imageStore(outColor, pixel, vec4(color, 1.0));
 }

@@ -16,8 +16,8 @@ layout(set = 1, binding = 2) uniform sampler2D sharp;  // rgba16f: the G-buffer'
 layout(set = 1, binding = 3) uniform sampler2D specular;  // rgba16f: its specular part
 layout(set = 1, binding = 4) uniform sampler2D normalDepth;  // rgba32f
 layout(set = 1, binding = 5) uniform sampler2D postProcess;  // rgba16f
-layout(set = 1, binding = 6) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
-layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour
+layout(set = 1, binding = 6) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
+layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
 layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
@@ -36,14 +36,14 @@ void main() {
     return;
   }
   vec4 near = texelFetch(historyNear, pixel, 0);
-  vec3 far = texelFetch(historyFar, pixel, 0).rgb;
   float ratio = clamp(near.a, 0.0, 1.0);
-  vec3 traced = near.rgb * ratio + far * (1.0 - ratio);
+  vec3 traced = near.rgb + texelFetch(historyFar, pixel, 0).rgb;
   float depth = texelFetch(normalDepth, pixel, 0).w;
   float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
-    color = mix(texelFetch(sharp, pixel, 0).rgb, near.rgb, ratio);
+    // Past the near layer, the in-focus surface is the sharp raster's.
+    color = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(traced, pp, bokeh);

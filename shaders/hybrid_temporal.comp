@@ -16,8 +16,11 @@ layout(set = 1, binding = 3) uniform sampler2D farLayer;  // rgba16f: colour, 1 
 layout(set = 1, binding = 4) uniform sampler2D farPosition;  // rgba32f: xyz, w far weight
 layout(set = 1, binding = 5) uniform sampler2D motion;  // rg16f, pixels
 layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linear depth
-layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour, hit ratio
-layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour, unused
+// History: the layers' colours premultiplied by their share of the rays (near by the hit ratio,
+// far by one minus it), so that frames in which a layer got no rays count as its absence, not
+// as black, and near + far is the pixel's colour; the near alpha is the accumulated hit ratio.
+layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
+layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
 layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, frames, depth
 layout(set = 1, binding = 10) uniform writeonly image2D outNear;
 layout(set = 1, binding = 11) uniform writeonly image2D outFar;
@@ -52,8 +55,8 @@ vec4 farWorldPosition(ivec2 pixel) {
   return sum.w > 0.0 ? vec4(sum.xyz / sum.w, 1.0) : vec4(0.0);
 }
 
-vec2 previousPixelOf(vec3 world) {
-  vec4 clip = frame.previousViewProj * vec4(world, 1.0);
+vec2 pixelOf(mat4 viewProj, vec3 world) {
+  vec4 clip = viewProj * vec4(world, 1.0);
   return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
 }
 
@@ -82,17 +85,22 @@ void main() {
   }
   float frames = nearValid ? moments.z : 0.0;
   float blend = max(1.0 / (frames + 1.0), push.minBlend);
-  vec4 nearHistory = nearValid ? texelFetch(historyNear, ivec2(previousNear), 0) : near;
-  vec4 outNearValue = vec4(mix(nearHistory.rgb, near.rgb, blend), mix(nearHistory.a, near.a, blend));
+  vec4 nearNow = vec4(near.rgb * near.a, near.a);
+  vec4 nearHistory = nearValid ? texelFetch(historyNear, ivec2(previousNear), 0) : nearNow;
+  vec4 outNearValue = mix(nearHistory, nearNow, blend);
 
   // Far layer: where the background seen through this pixel was.
   vec4 world = farWorldPosition(pixel);
-  vec2 previousFar = world.w > 0.0 ? previousPixelOf(world.xyz) : previousNear;
+  // The far point's own screen motion, applied to this pixel: its average position seen through
+  // the lens does not project onto this pixel, only moves as the background behind it does.
+  vec2 previousFar = world.w > 0.0 ? center + pixelOf(frame.previousViewProj, world.xyz) -
+                                         pixelOf(frame.viewProj, world.xyz)
+                                   : previousNear;
   bool farValid = push.reset == 0u && insideImage(previousFar) &&
                   texelFetch(historyMoments, ivec2(previousFar), 0).z > 0.0;
-  vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : far.rgb;
-  float farBlend = farValid ? blend : 1.0;
-  vec3 outFarColor = mix(farHistory, far.rgb, farBlend);
+  vec3 farNow = far.rgb * (1.0 - near.a);
+  vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : farNow;
+  vec3 outFarColor = mix(farHistory, farNow, farValid ? blend : 1.0);
 
   float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
   vec2 m = nearValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
