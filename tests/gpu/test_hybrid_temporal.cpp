@@ -1,5 +1,6 @@
 // Temporal accumulation of the hybrid's ray-traced layers: history grows while the view rests,
 // the variance that drives the ray mask settles, and a cut starts over.
+#include "quality/occlusion_mask.h"
 #include "render/gbuffer_pass.h"
 #include "render/hybrid_temporal_pass.h"
 #include "render/ray_mask.h"
@@ -128,6 +129,36 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   EXPECT_GT(stats.maskCoverage, 0.01);
   EXPECT_LT(stats.maskCoverage, 0.8);
   EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
+}
+
+}  // namespace
+}  // namespace hdof::test
+
+namespace hdof::test {
+namespace {
+
+TEST(HybridMode, BeatsThePostProcessWhereItMustInventTheBackground) {
+  RenderSpec spec;
+  spec.width = 256;
+  spec.height = 144;
+  spec.lens.fNumber = 1.4f;
+  FrameRequest request;
+  std::vector<float> depth = renderDepth(spec, &request);
+  CocParameters coc{request.lens.apertureDiameter(), request.lens.focusDistance,
+                    focalLengthPixels(request.camera, spec.width, spec.height)};
+  ImageRgba8 region =
+      maskImage(occlusionMask(depth, spec.width, spec.height, coc), spec.width, spec.height);
+  spec.mode = RenderMode::Reference;
+  spec.raysPerPixel = 256;
+  ImageRgba8 reference = renderImage(spec);
+  spec.mode = RenderMode::PostProcess;
+  double postProcess = compareImages(renderImage(spec), reference, &region).psnrDb;
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 4;
+  spec.frames = 16;
+  double hybrid = compareImages(renderImage(spec), reference, &region).psnrDb;
+  std::printf("occlusion region: postprocess %.2f dB, hybrid %.2f dB\n", postProcess, hybrid);
+  EXPECT_GT(hybrid, postProcess + 3.0);
 }
 
 }  // namespace
