@@ -12,7 +12,7 @@ int runBench(std::span<const std::string> args) {
   SceneOptions sceneOptions;
   LensOptions lensOptions;
   std::string size = "640x360";
-  uint32_t frames = 10;
+  uint32_t frames = 10, comparisonRays = 4;
   bool json = false;
   ArgParser parser("bench", "[options]",
                    "Measures BVH build time, G-buffer time and reference ray traversal speed\n"
@@ -24,10 +24,15 @@ int runBench(std::span<const std::string> args) {
   parser.option("--size", "WxH", "image size (default 640x360)", &size);
   parser.option("--frames", "N", "frames measured per figure, after one warm-up (default 10)",
                 &frames);
+  parser.option("--rays", "N",
+                "rays per pixel per frame for the postprocess / hybrid / raytrace comparison "
+                "(default 4)",
+                &comparisonRays);
   parser.flag("--json", "print one JSON object instead of lines", &json);
   if (!parser.parse(args)) return 0;
   Size2 imageSize = parseSize(size, 4096);
   if (frames < 1 || frames > 10000) throw UsageError("--frames must be 1 to 10000");
+  if (comparisonRays < 1 || comparisonRays > 64) throw UsageError("--rays must be 1 to 64");
 
   RenderSetup setup(sceneOptions, lensOptions, imageSize);
   const LoadedScene& loaded = setup.loaded;
@@ -59,6 +64,30 @@ int runBench(std::span<const std::string> args) {
                                  {"dof_downsample", "dof_tiles", "dof_dilate", "dof_prefilter",
                                   "dof_gather", "dof_median", "dof_composite"});
   double postProcessFrameWallMs = median(wallMs);
+  // Whole frames, side by side at the same rays per pixel: what the hybrid costs against the
+  // post-process it improves on and the full ray trace it approaches (camera still, so the
+  // hybrid's mask is the settled one).
+  request.settings.samplesPerPixel = comparisonRays;
+  std::vector<double> coverage;
+  auto frameMs = [&](RenderMode mode) {
+    request.mode = mode;
+    setup.pipeline.resetHistory();
+    std::vector<double> ms;
+    coverage.clear();
+    for (uint32_t i = 0; i <= frames; ++i) {
+      request.settings.frameIndex = i;
+      FrameStats stats = setup.pipeline.render(request);
+      if (i == 0) continue;
+      ms.push_back(stats.gpuMs);
+      coverage.push_back(stats.maskCoverage);
+    }
+    return median(ms);
+  };
+  double postProcessFrameMs = frameMs(RenderMode::PostProcess);
+  double hybridFrameMs = frameMs(RenderMode::Hybrid);
+  double maskCoverage = median(coverage);
+  double rayTraceFrameMs = frameMs(RenderMode::RayTrace);
+
   request.settings.samplesPerPixel = 1;
   double referenceMs = measure(RenderMode::Reference, {"reference"});
   double rays = double(imageSize.width) * imageSize.height;
@@ -69,11 +98,14 @@ int runBench(std::span<const std::string> args) {
         "{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%zu,\"width\":%u,\"height\":%u,"
         "\"bvh_build_ms\":%.2f,\"bvh_nodes\":%zu,\"bvh_depth\":%u,\"gbuffer_ms\":%.3f,"
         "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,\"postprocess_dof_ms\":%.3f,"
-        "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u}\n",
+        "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u,"
+        "\"comparison_rays_per_pixel\":%u,\"postprocess_frame_ms\":%.3f,"
+        "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
-        mraysPerSecond, frames);
+        mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
+        maskCoverage);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -88,6 +120,11 @@ int runBench(std::span<const std::string> args) {
   std::printf(
       "reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
       referenceMs, mraysPerSecond, frames);
+  std::printf(
+      "frame_ms at %u rays per pixel: postprocess=%.1f hybrid=%.1f raytrace=%.1f "
+      "(hybrid/postprocess %.2fx, hybrid/raytrace %.2fx, mask coverage %.3f; medians of %u)\n",
+      comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
+      hybridFrameMs / postProcessFrameMs, hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
   return 0;
 }
 
