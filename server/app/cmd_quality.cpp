@@ -88,8 +88,8 @@ int runQuality(std::span<const std::string> args) {
   // The partial-occlusion region from the pinhole depth.
   request.mode = RenderMode::Pinhole;
   pipeline.render(request);
-  CocParameters coc{request.lens.apertureDiameter(), request.lens.focusDistance,
-                    focalLengthPixels(request.camera, imageSize.width, imageSize.height)};
+  CocParameters coc =
+      cocParameters(request.camera, request.lens, imageSize.width, imageSize.height);
   std::vector<uint8_t> region =
       occlusionMask(pipeline.linearDepth(), imageSize.width, imageSize.height, coc);
   ImageRgba8 regionImage = maskImage(region, imageSize.width, imageSize.height);

@@ -7,6 +7,11 @@
 
 namespace hdof {
 
+CocParameters cocParameters(const Camera& camera, const Lens& lens, uint32_t width,
+                            uint32_t height) {
+  return {lens.apertureDiameter(), lens.focusDistance, focalLengthPixels(camera, width, height)};
+}
+
 std::vector<uint8_t> occlusionMask(const std::vector<float>& depth, uint32_t width, uint32_t height,
                                    const CocParameters& coc, const OcclusionMaskOptions& options) {
   std::vector<uint8_t> mask(size_t(width) * height, 0);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "image/image.h"
+#include "render/camera.h"
 
 #include <cstdint>
 #include <vector>
@@ -14,6 +15,10 @@ struct CocParameters {
   float focusDistance;     // metres
   float focalLengthPixels;
 };
+
+// The CoC parameters of a view rendered at width x height.
+CocParameters cocParameters(const Camera& camera, const Lens& lens, uint32_t width,
+                            uint32_t height);
 
 struct OcclusionMaskOptions {
   float edgeRatio = 1.1f;      // a neighbour this much deeper (relative) makes a depth edge

@@ -1,5 +1,7 @@
 #include "render_fixture.h"
 
+#include "quality/occlusion_mask.h"
+
 #include <gtest/gtest.h>
 
 #include <glm/gtc/packing.hpp>
@@ -68,6 +70,13 @@ std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut)
   pipeline.render(request);
   if (requestOut) *requestOut = request;
   return pipeline.linearDepth();
+}
+
+std::vector<uint8_t> occlusionRegion(const RenderSpec& spec) {
+  FrameRequest request;
+  std::vector<float> depth = renderDepth(spec, &request);
+  return occlusionMask(depth, spec.width, spec.height,
+                       cocParameters(request.camera, request.lens, spec.width, spec.height));
 }
 
 std::vector<glm::vec4> readImage(const gpu::Image& image) {

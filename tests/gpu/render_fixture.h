@@ -40,6 +40,9 @@ ImageRgba8 renderImage(const RenderSpec& spec);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
 
+// The partial-occlusion region of the spec's view (255 inside), from its pinhole depth.
+std::vector<uint8_t> occlusionRegion(const RenderSpec& spec);
+
 // A render target's texels on the CPU (rgba16f or rgba32f images).
 std::vector<glm::vec4> readImage(const gpu::Image& image);
 

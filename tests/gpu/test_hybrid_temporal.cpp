@@ -97,12 +97,6 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   }
 }
 
-}  // namespace
-}  // namespace hdof::test
-
-namespace hdof::test {
-namespace {
-
 TEST(HybridMode, RendersThroughTheFramePipeline) {
   RenderSpec spec;
   spec.width = 192;
@@ -131,23 +125,12 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
 }
 
-}  // namespace
-}  // namespace hdof::test
-
-namespace hdof::test {
-namespace {
-
 TEST(HybridMode, BeatsThePostProcessWhereItMustInventTheBackground) {
   RenderSpec spec;
   spec.width = 256;
   spec.height = 144;
   spec.lens.fNumber = 1.4f;
-  FrameRequest request;
-  std::vector<float> depth = renderDepth(spec, &request);
-  CocParameters coc{request.lens.apertureDiameter(), request.lens.focusDistance,
-                    focalLengthPixels(request.camera, spec.width, spec.height)};
-  ImageRgba8 region =
-      maskImage(occlusionMask(depth, spec.width, spec.height, coc), spec.width, spec.height);
+  ImageRgba8 region = maskImage(occlusionRegion(spec), spec.width, spec.height);
   spec.mode = RenderMode::Reference;
   spec.raysPerPixel = 256;
   ImageRgba8 reference = renderImage(spec);

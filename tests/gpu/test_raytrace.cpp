@@ -34,11 +34,7 @@ uint64_t regionPixels(const std::string& scene) {
   spec.width = 160;
   spec.height = 90;
   spec.lens.fNumber = 1.4f;
-  FrameRequest request;
-  std::vector<float> depth = renderDepth(spec, &request);
-  CocParameters coc{request.lens.apertureDiameter(), request.lens.focusDistance,
-                    focalLengthPixels(request.camera, spec.width, spec.height)};
-  return maskCount(occlusionMask(depth, spec.width, spec.height, coc));
+  return maskCount(occlusionRegion(spec));
 }
 
 TEST(OcclusionRegion, EmptyForAWallAndPresentInTheDofScene) {
