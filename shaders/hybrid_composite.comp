@@ -2,8 +2,9 @@
 // accumulated hit ratio, placed by the pixel's circle of confusion: in the focus zone the sharp
 // raster colour seen past the near layer; in the near field the ray-traced colour, except bright
 // specular bokeh where the post-process wins by the specular intensity; in the far field the
-// ray-traced colour where near geometry covers the pixel (hit ratio), the post-process elsewhere.
-// Where the mask did not trace, the post-process.
+// ray-traced colour where near geometry covers the pixel (hit ratio) and inside the traced
+// region, fading to the post-process over the last pixels before the mask's edge, so that the
+// edge leaves no seam. Where the mask did not trace, the post-process.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -22,10 +23,25 @@ layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
+// Distance from the mask's edge (pixels) over which the far field fades to the post-process.
+const float kSeamFade = 4.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// How far inside the traced region the pixel lies: the share of eight pixels on a circle of
+// radius kSeamFade around it that the mask traced, from 0.5 on the edge to 1 well inside.
+float tracedShare(ivec2 pixel) {
+  float count = 0.0;
+  for (int i = 0; i < 8; ++i) {
+    float angle = float(i) * (3.14159265 / 4.0);
+    ivec2 q = pixel + ivec2(round(kSeamFade * vec2(cos(angle), sin(angle))));
+    q = clamp(q, ivec2(0), ivec2(frame.image.xy) - 1);
+    count += texelFetch(rays, q, 0).r > 0u ? 1.0 : 0.0;
+  }
+  return count / 8.0;
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -48,7 +64,8 @@ void main() {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(traced, pp, bokeh);
   } else {
-    color = mix(pp, traced, smoothstep(0.0, kFarBlendRatio, ratio));
+    float inside = smoothstep(0.5, 1.0, tracedShare(pixel));
+    color = mix(pp, traced, max(smoothstep(0.0, kFarBlendRatio, ratio), inside));
   }
   imageStore(outColor, pixel, vec4(color, 1.0));
 }

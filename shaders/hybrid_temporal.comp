@@ -3,12 +3,14 @@
 // world position (the neighbours' where a pixel had no far hit), history rejected where the
 // surface under the near reprojection changed depth (disocclusion) or on a cut; luminance
 // moments give the variance that the next frame's ray mask reads, newly traced pixels counting
-// as noisy. Pixels the mask left out this frame drop their history.
+// as noisy. One thread per pixel of the ray mask's work list; the others' history was cleared
+// (pixels the mask left out this frame drop their history).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 64) in;
 
 #include "lib/frame.glsl"
+#include "shared/ray_work.h"
 
 layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui: rays traced this frame
 layout(set = 1, binding = 2) uniform sampler2D nearLayer;  // rgba16f: colour, hit ratio
@@ -22,10 +24,13 @@ layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linea
 layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
 layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
 layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, frames, depth
-layout(set = 1, binding = 10) uniform writeonly image2D outNear;
-layout(set = 1, binding = 11) uniform writeonly image2D outFar;
-layout(set = 1, binding = 12) uniform writeonly image2D outMoments;
-layout(set = 1, binding = 13) uniform writeonly image2D outVariance;  // r16f
+HDOF_RAY_WORK_LIST(10, readonly);
+layout(set = 1, binding = 11) uniform writeonly image2D outNear;
+layout(set = 1, binding = 12) uniform writeonly image2D outFar;
+layout(set = 1, binding = 13) uniform writeonly image2D outMoments;
+// r16f: the variance of one ray's luminance (the frame's variance times its rays), so that it
+// does not change with the rays the mask gives the pixel.
+layout(set = 1, binding = 14) uniform writeonly image2D outVariance;
 
 layout(push_constant) uniform Push {
   uint reset;  // 1 on a camera cut or the first frame: no history at all
@@ -61,16 +66,10 @@ vec2 pixelOf(mat4 viewProj, vec3 world) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  if (gl_GlobalInvocationID.x >= workList.header.count) return;
+  uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
+  ivec2 pixel = ivec2(unpackRayWorkPixel(entry.x));
   float depth = texelFetch(normalDepth, pixel, 0).w;
-  if (texelFetch(rays, pixel, 0).r == 0u) {
-    imageStore(outNear, pixel, vec4(0.0));
-    imageStore(outFar, pixel, vec4(0.0));
-    imageStore(outMoments, pixel, vec4(0.0, 0.0, 0.0, depth));
-    imageStore(outVariance, pixel, vec4(0.0));
-    return;
-  }
   vec4 near = texelFetch(nearLayer, pixel, 0);
   vec4 far = texelFetch(farLayer, pixel, 0);
   vec2 center = vec2(pixel) + 0.5;
@@ -106,7 +105,8 @@ void main() {
   vec2 m = nearValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
   float accumulated = min(frames + 1.0, kMaxFrames);
   // Few frames of history say little about the variance: such pixels ask for full rays.
-  float variance = accumulated < 4.0 ? kNewPixelVariance : max(m.y - m.x * m.x, 0.0);
+  float variance =
+      accumulated < 4.0 ? kNewPixelVariance : max(m.y - m.x * m.x, 0.0) * float(entry.y);
   imageStore(outNear, pixel, outNearValue);
   imageStore(outFar, pixel, vec4(outFarColor, 1.0));
   imageStore(outMoments, pixel, vec4(m, accumulated, depth));

@@ -69,23 +69,40 @@ int runBench(std::span<const std::string> args) {
   // hybrid's mask is the settled one).
   request.settings.samplesPerPixel = comparisonRays;
   std::vector<double> coverage;
+  std::vector<std::pair<std::string, std::vector<double>>> passMs;  // of the last frameMs()
   auto frameMs = [&](RenderMode mode) {
     request.mode = mode;
     setup.pipeline.resetHistory();
     std::vector<double> ms;
     coverage.clear();
+    passMs.clear();
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
       FrameStats stats = setup.pipeline.render(request);
       if (i == 0) continue;
       ms.push_back(stats.gpuMs);
       coverage.push_back(stats.maskCoverage);
+      for (const auto& [pass, passTime] : stats.passMs) {
+        auto it = std::find_if(passMs.begin(), passMs.end(),
+                               [&](const auto& entry) { return entry.first == pass; });
+        if (it == passMs.end()) it = passMs.insert(passMs.end(), {pass, {}});
+        it->second.push_back(passTime);
+      }
     }
     return median(ms);
   };
   double postProcessFrameMs = frameMs(RenderMode::PostProcess);
   double hybridFrameMs = frameMs(RenderMode::Hybrid);
   double maskCoverage = median(coverage);
+  std::string hybridPassesJson, hybridPassesText;  // "pass":ms members, pass=ms words
+  for (const auto& [pass, times] : passMs) {
+    char text[96];
+    std::snprintf(text, sizeof text, "%s\"%s\":%.3f", hybridPassesJson.empty() ? "" : ",",
+                  pass.c_str(), median(times));
+    hybridPassesJson += text;
+    std::snprintf(text, sizeof text, " %s=%.2f", pass.c_str(), median(times));
+    hybridPassesText += text;
+  }
   double rayTraceFrameMs = frameMs(RenderMode::RayTrace);
 
   request.settings.samplesPerPixel = 1;
@@ -100,12 +117,13 @@ int runBench(std::span<const std::string> args) {
         "\"visibility_ms\":%.3f,\"resolve_ms\":%.3f,\"postprocess_dof_ms\":%.3f,"
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u,"
         "\"comparison_rays_per_pixel\":%u,\"postprocess_frame_ms\":%.3f,"
-        "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f}\n",
+        "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f,"
+        "\"hybrid_passes_ms\":{%s}}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
-        maskCoverage);
+        maskCoverage, hybridPassesJson.c_str());
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -125,6 +143,7 @@ int runBench(std::span<const std::string> args) {
       "(hybrid/postprocess %.2fx, hybrid/raytrace %.2fx, mask coverage %.3f; medians of %u)\n",
       comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
       hybridFrameMs / postProcessFrameMs, hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
+  std::printf("hybrid_passes_ms:%s (medians)\n", hybridPassesText.c_str());
   return 0;
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 namespace hdof {
 namespace {
@@ -45,6 +46,8 @@ int runQuality(std::span<const std::string> args) {
   lensOptions.fNumber = 1.4f;
   std::string size = "640x360", outDir = "out/quality";
   ReferenceOptions referenceOptions;
+  std::string referencePath, modes = "pinhole,postprocess,hybrid,raytrace";
+  uint32_t rays = 4;
   bool json = false;
   ArgParser parser(
       "quality", "[options]",
@@ -68,9 +71,37 @@ int runQuality(std::span<const std::string> args) {
       "--converged-db", "DB",
       "PSNR between the reference at N and N/2 rays that counts as converged (default 42)",
       &referenceOptions.targetDb);
+  parser.option("--reference", "FILE.png",
+                "compare against this image (e.g. an earlier run's reference.png) instead of "
+                "rendering one",
+                &referencePath);
+  parser.option("--modes", "LIST",
+                "comma-separated modes to measure (default pinhole,postprocess,hybrid,raytrace)",
+                &modes);
+  parser.option("--rays", "N",
+                "rays per pixel per frame of hybrid and raytrace (default 4; raytrace also at 1)",
+                &rays);
   parser.flag("--json", "print the results as one JSON object", &json);
   if (!parser.parse(args)) return 0;
   Size2 imageSize = parseSize(size, 4096);
+  if (rays < 1 || rays > 64) throw UsageError("--rays must be 1 to 64");
+  std::vector<ModeRun> runs;
+  for (size_t start = 0; start <= modes.size();) {
+    size_t end = std::min(modes.find(',', start), modes.size());
+    std::string name = modes.substr(start, end - start);
+    std::optional<RenderMode> mode = parseMode(name);
+    if (!mode || *mode == RenderMode::Reference)
+      throw UsageError("--modes: unknown mode '" + name +
+                       "'; use pinhole, postprocess, hybrid or raytrace");
+    if (*mode == RenderMode::Hybrid)
+      runs.push_back({*mode, rays, {1, 16}});
+    else if (*mode == RenderMode::RayTrace) {
+      if (rays != 1) runs.push_back({*mode, 1, {1, 16}});
+      runs.push_back({*mode, rays, {1, 16}});
+    } else
+      runs.push_back({*mode});
+    start = end + 1;
+  }
   if (referenceOptions.maxRays < referenceOptions.startRays || referenceOptions.maxRays > 65536)
     throw UsageError("--max-reference-spp must be 16 to 65536");
   if (referenceOptions.fixedRays > 65536) throw UsageError("--reference-spp must be at most 65536");
@@ -98,20 +129,23 @@ int runQuality(std::span<const std::string> args) {
 
   if (hasRegion) referenceOptions.region = &regionImage;
   ReferenceImage reference;
-  {
+  if (!referencePath.empty()) {
+    reference.image = readImage(referencePath);
+    if (reference.image.width != imageSize.width || reference.image.height != imageSize.height)
+      throw UsageError("--reference: " + referencePath + " is " +
+                       std::to_string(reference.image.width) + "x" +
+                       std::to_string(reference.image.height) + ", not the --size " + size);
+  } else {
     Progress progress("reference", referenceOptions.fixedRays ? referenceOptions.fixedRays
                                                               : referenceOptions.maxRays);
     reference = renderConvergedReference(pipeline, request, referenceOptions,
                                          [&](uint32_t rays) { progress.update(rays); });
   }
-  writeImage(outPath("reference.png"), reference.image);
-  if (!json) std::printf("reference: %s\n", reference.verdict().c_str());
+  if (referencePath.empty()) {
+    writeImage(outPath("reference.png"), reference.image);
+    if (!json) std::printf("reference: %s\n", reference.verdict().c_str());
+  }
 
-  std::vector<ModeRun> runs = {{RenderMode::Pinhole},
-                               {RenderMode::PostProcess},
-                               {RenderMode::Hybrid, 4, {1, 16}},
-                               {RenderMode::RayTrace, 1, {1, 16}},
-                               {RenderMode::RayTrace, 4, {1, 16}}};
   std::vector<Row> rows;
   for (const ModeRun& run : runs) {
     request.mode = run.mode;
@@ -143,11 +177,14 @@ int runQuality(std::span<const std::string> args) {
 
   if (json) {
     nlohmann::json out;
-    out["reference"] = {{"rays_per_pixel", reference.rays},
-                        {"last_step_psnr_db", reference.lastStepDb},
-                        {"last_step_region_psnr_db", reference.lastStepRegionDb},
-                        {"converged", reference.converged},
-                        {"verdict", reference.verdict()}};
+    if (!referencePath.empty())
+      out["reference"] = {{"file", referencePath}};
+    else
+      out["reference"] = {{"rays_per_pixel", reference.rays},
+                          {"last_step_psnr_db", reference.lastStepDb},
+                          {"last_step_region_psnr_db", reference.lastStepRegionDb},
+                          {"converged", reference.converged},
+                          {"verdict", reference.verdict()}};
     out["occlusion_pixels"] = maskCount(region);
     out["focus_distance"] = request.lens.focusDistance;
     out["f_number"] = request.lens.fNumber;

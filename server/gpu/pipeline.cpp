@@ -119,15 +119,32 @@ void DescriptorWriter::push(const Context& context, VkCommandBuffer cmd,
                                writes_.data());
 }
 
-void dispatchCompute(const Context& context, VkCommandBuffer cmd, const ComputePipeline& pipeline,
-                     const DescriptorWriter& passDescriptors, uint32_t width, uint32_t height,
-                     uint32_t groupSize, const void* pushConstants) {
+namespace {
+
+void bindCompute(const Context& context, VkCommandBuffer cmd, const ComputePipeline& pipeline,
+                 const DescriptorWriter& passDescriptors, const void* pushConstants) {
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.pipeline);
   passDescriptors.push(context, cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout, kPassSet);
   if (pipeline.pushConstantSize)
     vkCmdPushConstants(cmd, pipeline.layout, kAllShaderStages, 0, pipeline.pushConstantSize,
                        pushConstants);
+}
+
+}  // namespace
+
+void dispatchCompute(const Context& context, VkCommandBuffer cmd, const ComputePipeline& pipeline,
+                     const DescriptorWriter& passDescriptors, uint32_t width, uint32_t height,
+                     uint32_t groupSize, const void* pushConstants) {
+  bindCompute(context, cmd, pipeline, passDescriptors, pushConstants);
   vkCmdDispatch(cmd, (width + groupSize - 1) / groupSize, (height + groupSize - 1) / groupSize, 1);
+}
+
+void dispatchComputeIndirect(const Context& context, VkCommandBuffer cmd,
+                             const ComputePipeline& pipeline,
+                             const DescriptorWriter& passDescriptors, const Buffer& indirectArgs,
+                             const void* pushConstants) {
+  bindCompute(context, cmd, pipeline, passDescriptors, pushConstants);
+  vkCmdDispatchIndirect(cmd, indirectArgs.get(), 0);
 }
 
 }  // namespace hdof::gpu

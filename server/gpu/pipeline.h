@@ -73,4 +73,11 @@ void dispatchCompute(const Context& context, VkCommandBuffer cmd, const ComputeP
                      const DescriptorWriter& passDescriptors, uint32_t width, uint32_t height,
                      uint32_t groupSize = 8, const void* pushConstants = nullptr);
 
+// The same, with the workgroup counts read from a VkDispatchIndirectCommand at the start of
+// indirectArgs (a buffer with VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT).
+void dispatchComputeIndirect(const Context& context, VkCommandBuffer cmd,
+                             const ComputePipeline& pipeline,
+                             const DescriptorWriter& passDescriptors, const Buffer& indirectArgs,
+                             const void* pushConstants = nullptr);
+
 }  // namespace hdof::gpu

@@ -133,6 +133,10 @@ void makeGeneral(const Context& context, std::initializer_list<const Image*> ima
 // rows), after all earlier writes and before the host reads it.
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer);
 
+// Zeroes colour images in VK_IMAGE_LAYOUT_GENERAL (made with VK_IMAGE_USAGE_TRANSFER_DST_BIT),
+// after earlier compute reads and before later compute reads and writes.
+void clearToZero(VkCommandBuffer cmd, std::initializer_list<const Image*> images);
+
 // One image layout transition (and execution/memory dependency) for all mip levels.
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                      VkPipelineStageFlags srcStage, VkAccessFlags srcAccess,

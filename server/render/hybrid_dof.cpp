@@ -52,7 +52,8 @@ void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buf
   timer.end(cmd);
   computeToCompute(cmd);
   timer.begin(cmd, "hybrid_temporal");
-  temporal_.record(cmd, frameUniforms, mask_.rays(), *layers_, targets, !hasHistory_);
+  temporal_.record(cmd, frameUniforms, mask_.rays(), mask_.workList(), *layers_, targets,
+                   !hasHistory_);
   timer.end(cmd);
   computeToCompute(cmd);
   timer.begin(cmd, "hybrid_composite");

@@ -20,8 +20,9 @@ struct TemporalPush {
 };
 
 HybridTemporalPass::History makeHistory(const gpu::Context& context, uint32_t w, uint32_t h) {
-  constexpr VkImageUsageFlags kUse =
-      VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+  constexpr VkImageUsageFlags kUse = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                     VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                     VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   return {
       gpu::createImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kUse, "history near"),
       gpu::createImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT, kUse, "history far"),
@@ -34,10 +35,11 @@ HybridTemporalPass::Images::Images(const gpu::Context& context, uint32_t w, uint
     : width(w),
       height(h),
       history{makeHistory(context, w, h), makeHistory(context, w, h)},
-      variance(gpu::createImage2D(
-          context, w, h, VK_FORMAT_R16_SFLOAT,
-          VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-          "hybrid variance")) {
+      variance(gpu::createImage2D(context, w, h, VK_FORMAT_R16_SFLOAT,
+                                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                      VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                      VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                  "hybrid variance")) {
   gpu::makeGeneral(context,
                    {&history[0].nearLayer, &history[0].farLayer, &history[0].moments,
                     &history[1].nearLayer, &history[1].farLayer, &history[1].moments, &variance});
@@ -58,6 +60,7 @@ HybridTemporalPass::HybridTemporalPass(const gpu::Context& context, uint32_t wid
                                           {kSampled},
                                           {kSampled},
                                           {kSampled},
+                                          {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
                                           {kStorage},
                                           {kStorage},
                                           {kStorage},
@@ -76,29 +79,32 @@ void HybridTemporalPass::resize(uint32_t width, uint32_t height) {
 }
 
 void HybridTemporalPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                                const gpu::Image& rays, const HybridTraceLayers& layers,
-                                const RenderTargets& targets, bool reset, float minBlend) {
+                                const gpu::Image& rays, const gpu::Buffer& workList,
+                                const HybridTraceLayers& layers, const RenderTargets& targets,
+                                bool reset, float minBlend) {
   const History& previous = images_->history[images_->written];
   images_->written ^= 1u;
   const History& next = images_->history[images_->written];
   TemporalPush push{reset ? 1u : 0u, minBlend};
-  gpu::dispatchCompute(context_, cmd, pipeline_,
-                       gpu::DescriptorWriter()
-                           .uniformBuffer(gpu::kBindingFrame, frameUniforms)
-                           .sampledImage(1, rays, sampler_)
-                           .sampledImage(2, layers.nearLayer, sampler_)
-                           .sampledImage(3, layers.farLayer, sampler_)
-                           .sampledImage(4, layers.farPosition, sampler_)
-                           .sampledImage(5, targets.motion, sampler_)
-                           .sampledImage(6, targets.normalDepth, sampler_)
-                           .sampledImage(7, previous.nearLayer, sampler_)
-                           .sampledImage(8, previous.farLayer, sampler_)
-                           .sampledImage(9, previous.moments, sampler_)
-                           .storageImage(10, next.nearLayer)
-                           .storageImage(11, next.farLayer)
-                           .storageImage(12, next.moments)
-                           .storageImage(13, images_->variance),
-                       images_->width, images_->height, 8, &push);
+  gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &images_->variance});
+  gpu::dispatchComputeIndirect(context_, cmd, pipeline_,
+                               gpu::DescriptorWriter()
+                                   .uniformBuffer(gpu::kBindingFrame, frameUniforms)
+                                   .sampledImage(1, rays, sampler_)
+                                   .sampledImage(2, layers.nearLayer, sampler_)
+                                   .sampledImage(3, layers.farLayer, sampler_)
+                                   .sampledImage(4, layers.farPosition, sampler_)
+                                   .sampledImage(5, targets.motion, sampler_)
+                                   .sampledImage(6, targets.normalDepth, sampler_)
+                                   .sampledImage(7, previous.nearLayer, sampler_)
+                                   .sampledImage(8, previous.farLayer, sampler_)
+                                   .sampledImage(9, previous.moments, sampler_)
+                                   .storageBuffer(10, workList)
+                                   .storageImage(11, next.nearLayer)
+                                   .storageImage(12, next.farLayer)
+                                   .storageImage(13, next.moments)
+                                   .storageImage(14, images_->variance),
+                               workList, &push);
 }
 
 const HybridTemporalPass::History& HybridTemporalPass::current() const {

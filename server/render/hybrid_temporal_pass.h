@@ -21,12 +21,13 @@ class HybridTemporalPass {
   HybridTemporalPass& operator=(const HybridTemporalPass&) = delete;
 
   void resize(uint32_t width, uint32_t height);
-  // rays: the ray mask's rays per pixel this frame (r8ui, sampled). reset: a cut (or the first
-  // frame): start every pixel's history over. minBlend: the new frame's weight once history is
+  // rays: the ray mask's rays per pixel this frame (r8ui, sampled); workList: its pixels (one
+  // thread each; the other pixels' history is cleared). reset: a cut (or the first frame): start
+  // every pixel's history over. minBlend: the new frame's weight once history is
   // long (the moving average's floor; lower is smoother in stills, slower to follow motion).
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const gpu::Image& rays,
-              const HybridTraceLayers& layers, const RenderTargets& targets, bool reset,
-              float minBlend = 0.1f);
+              const gpu::Buffer& workList, const HybridTraceLayers& layers,
+              const RenderTargets& targets, bool reset, float minBlend = 0.1f);
 
   struct History {
     gpu::Image nearLayer;  // rgba16f: accumulated near colour, accumulated hit ratio
@@ -35,7 +36,8 @@ class HybridTemporalPass {
   };
   // What the last record() wrote.
   const History& current() const;
-  // r16f: luminance variance of the ray-traced colour (high where history is short).
+  // r16f: luminance variance of one ray of the ray-traced colour (high where history is short;
+  // 0 where the mask did not trace).
   const gpu::Image& variance() const;
 
  private:

@@ -34,19 +34,16 @@ void HybridTracePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUnifor
                              const gpu::Buffer& workList, const HybridTraceLayers& layers,
                              uint32_t firstSample) const {
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline);
-  gpu::DescriptorWriter()
-      .uniformBuffer(gpu::kBindingFrame, frameUniforms)
-      .storageBuffer(1, workList)
-      .storageImage(2, layers.nearLayer)
-      .storageImage(3, layers.farLayer)
-      .storageImage(4, layers.farPosition)
-      .storageImage(5, layers.layerCoc)
-      .push(context_, cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout, gpu::kPassSet);
-  vkCmdPushConstants(cmd, pipeline_.layout, gpu::kAllShaderStages, 0, sizeof(firstSample),
-                     &firstSample);
   // The work list starts with a VkDispatchIndirectCommand sized to its entries.
-  vkCmdDispatchIndirect(cmd, workList.get(), 0);
+  gpu::dispatchComputeIndirect(context_, cmd, pipeline_,
+                               gpu::DescriptorWriter()
+                                   .uniformBuffer(gpu::kBindingFrame, frameUniforms)
+                                   .storageBuffer(1, workList)
+                                   .storageImage(2, layers.nearLayer)
+                                   .storageImage(3, layers.farLayer)
+                                   .storageImage(4, layers.farPosition)
+                                   .storageImage(5, layers.layerCoc),
+                               workList, &firstSample);
 }
 
 }  // namespace hdof

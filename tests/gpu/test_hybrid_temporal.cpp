@@ -49,7 +49,8 @@ struct TemporalRig {
       trace.record(cmd, uniforms, mask.workList(), layers, frame * kRaysPerPixel);
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-      temporal.record(cmd, uniforms, mask.rays(), layers, targets, cut || frame == 0);
+      temporal.record(cmd, uniforms, mask.rays(), mask.workList(), layers, targets,
+                      cut || frame == 0);
     });
     ++frame;
   }
