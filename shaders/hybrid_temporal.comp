@@ -23,7 +23,7 @@ layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linea
 // as black, and near + far is the pixel's colour; the near alpha is the accumulated hit ratio.
 layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
 layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
-layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, frames, depth
+layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
 HDOF_RAY_WORK_LIST(10, readonly);
 layout(set = 1, binding = 11) uniform writeonly image2D outNear;
 layout(set = 1, binding = 12) uniform writeonly image2D outFar;
@@ -37,9 +37,7 @@ layout(push_constant) uniform Push {
   float minBlend;  // the moving average's weight of the new frame once history is long
 } push;
 
-const float kMaxFrames = 64.0;
 const float kDisocclusion = 0.1;  // relative depth change that rejects the near history
-const float kNewPixelVariance = 1.0;  // what a pixel with little history reports: full rays
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -82,8 +80,14 @@ void main() {
     moments = texelFetch(historyMoments, ivec2(previousNear), 0);
     nearValid = moments.z > 0.0 && abs(moments.w - depth) <= kDisocclusion * depth;
   }
-  float frames = nearValid ? moments.z : 0.0;
-  float blend = max(1.0 / (frames + 1.0), push.minBlend);
+  // The moving average counts rays, not frames (the mask gives a pixel more or fewer rays from
+  // frame to frame): a frame's weight is its share of the rays in the window, which is
+  // 1 / minBlend frames at the full rays per pixel.
+  float rays = float(entry.y);
+  float window = float(max(frame.image.w, 1u)) / push.minBlend;
+  float samples = nearValid ? moments.z : 0.0;
+  float accumulated = min(samples + rays, window);
+  float blend = rays / accumulated;
   vec4 nearNow = vec4(near.rgb * near.a, near.a);
   vec4 nearHistory = nearValid ? texelFetch(historyNear, ivec2(previousNear), 0) : nearNow;
   vec4 outNearValue = mix(nearHistory, nearNow, blend);
@@ -103,10 +107,10 @@ void main() {
 
   float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
   vec2 m = nearValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
-  float accumulated = min(frames + 1.0, kMaxFrames);
-  // Few frames of history say little about the variance: such pixels ask for full rays.
-  float variance =
-      accumulated < 4.0 ? kNewPixelVariance : max(m.y - m.x * m.x, 0.0) * float(entry.y);
+  // A short history says little about the variance: such pixels ask for full rays.
+  float variance = accumulated < 4.0 * float(frame.image.w)
+                       ? kRayMaskVarianceNew
+                       : max(m.y - m.x * m.x, 0.0) * rays;
   imageStore(outNear, pixel, outNearValue);
   imageStore(outFar, pixel, vec4(outFarColor, 1.0));
   imageStore(outMoments, pixel, vec4(m, accumulated, depth));

@@ -21,10 +21,8 @@ layout(set = 1, binding = 2) uniform writeonly image2D nearLayer;  // rgba16f: c
 layout(set = 1, binding = 3) uniform writeonly image2D farLayer;  // rgba16f: colour, 1 - ratio
 layout(set = 1, binding = 4) uniform writeonly image2D farPosition;  // rgba32f: xyz, w far hits
 layout(set = 1, binding = 5) uniform writeonly image2D layerCoc;  // rg16f: near |CoC|, far CoC
-
-layout(push_constant) uniform Push {
-  uint firstSample;  // number of this frame's first ray in each pixel's sequence
-} push;
+// Rays traced so far per pixel: where this frame's rays continue the pixel's sample sequence.
+layout(set = 1, binding = 6, r32ui) uniform uimage2D samplesTraced;
 
 // How much of a hit belongs to the near layer: all of it in front of the focus zone, none of it
 // behind, linearly across the zone (|CoC| < kDofFocusZone), so the split has no seam.
@@ -36,10 +34,12 @@ void main() {
   uvec2 pixel = unpackRayWorkPixel(entry.x);
   uint rays = max(entry.y, 1u);
   vec4 rotation = pixelRotation4(pixel, 2u);
+  uint firstSample = imageLoad(samplesTraced, ivec2(pixel)).r;
+  imageStore(samplesTraced, ivec2(pixel), uvec4(firstSample + rays));
   vec3 nearSum = vec3(0.0), farSum = vec3(0.0), farPositionSum = vec3(0.0);
   float nearWeightSum = 0.0, nearCocSum = 0.0, farCocSum = 0.0;
   for (uint i = 0u; i < rays; ++i) {
-    vec4 u = r4Sample(push.firstSample + i, rotation);
+    vec4 u = r4Sample(firstSample + i, rotation);
     vec3 origin;
     vec3 direction = thinLensRay(vec2(pixel) + u.xy, apertureSample(u.zw), origin);
     RaySample hit = traceCameraRay(origin, direction);

@@ -1,8 +1,10 @@
-// Ray mask, compaction: appends every pixel with rays to the work list. One atomic per subgroup:
-// a ballot gives each lane its slot among the subgroup's entries.
+// Ray mask, compaction: appends every pixel with rays to the work list and adds up their rays.
+// One atomic per subgroup and counter: a ballot gives each lane its slot among the subgroup's
+// entries.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
@@ -18,8 +20,12 @@ void main() {
   uvec4 ballot = subgroupBallot(count > 0u);
   uint listed = subgroupBallotBitCount(ballot);
   if (listed == 0u) return;
+  uint rays = subgroupAdd(count);
   uint first = 0u;
-  if (subgroupElect()) first = atomicAdd(workList.header.count, listed);
+  if (subgroupElect()) {
+    first = atomicAdd(workList.header.count, listed);
+    atomicAdd(workList.header.rays, rays);
+  }
   first = subgroupBroadcastFirst(first);
   if (count > 0u) {
     uint slot = first + subgroupBallotExclusiveBitCount(ballot);

@@ -68,13 +68,14 @@ int runBench(std::span<const std::string> args) {
   // post-process it improves on and the full ray trace it approaches (camera still, so the
   // hybrid's mask is the settled one).
   request.settings.samplesPerPixel = comparisonRays;
-  std::vector<double> coverage;
+  std::vector<double> coverage, raysShot;
   std::vector<std::pair<std::string, std::vector<double>>> passMs;  // of the last frameMs()
   auto frameMs = [&](RenderMode mode) {
     request.mode = mode;
     setup.pipeline.resetHistory();
     std::vector<double> ms;
     coverage.clear();
+    raysShot.clear();
     passMs.clear();
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
@@ -82,6 +83,7 @@ int runBench(std::span<const std::string> args) {
       if (i == 0) continue;
       ms.push_back(stats.gpuMs);
       coverage.push_back(stats.maskCoverage);
+      raysShot.push_back(double(stats.raysShot));
       for (const auto& [pass, passTime] : stats.passMs) {
         auto it = std::find_if(passMs.begin(), passMs.end(),
                                [&](const auto& entry) { return entry.first == pass; });
@@ -94,6 +96,7 @@ int runBench(std::span<const std::string> args) {
   double postProcessFrameMs = frameMs(RenderMode::PostProcess);
   double hybridFrameMs = frameMs(RenderMode::Hybrid);
   double maskCoverage = median(coverage);
+  double hybridRays = median(raysShot);
   std::string hybridPassesJson, hybridPassesText;  // "pass":ms members, pass=ms words
   for (const auto& [pass, times] : passMs) {
     char text[96];
@@ -118,12 +121,12 @@ int runBench(std::span<const std::string> args) {
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u,"
         "\"comparison_rays_per_pixel\":%u,\"postprocess_frame_ms\":%.3f,"
         "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f,"
-        "\"hybrid_passes_ms\":{%s}}\n",
+        "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s}}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
-        maskCoverage, hybridPassesJson.c_str());
+        maskCoverage, hybridRays, hybridPassesJson.c_str());
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -143,6 +146,9 @@ int runBench(std::span<const std::string> args) {
       "(hybrid/postprocess %.2fx, hybrid/raytrace %.2fx, mask coverage %.3f; medians of %u)\n",
       comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
       hybridFrameMs / postProcessFrameMs, hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
+  std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
+              hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
+              hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));
   std::printf("hybrid_passes_ms:%s (medians)\n", hybridPassesText.c_str());
   return 0;
 }

@@ -131,8 +131,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
         radiance = &postProcess_.output();
       }
       if (request.mode == RenderMode::Hybrid) {
-        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(),
-                       hybridFrames_++ * request.settings.samplesPerPixel, request.view);
+        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(), request.view);
         radiance = &hybrid_.output();
       }
       break;
@@ -179,9 +178,14 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.passMs = timer_.results();
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
-  if (request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference)
+  if (request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference) {
     stats.accumulatedSamples = accumulation_.samples;
-  if (request.mode == RenderMode::Hybrid) stats.maskCoverage = hybrid_.maskCoverage();
+    stats.raysShot = uint64_t(width()) * height() * request.settings.samplesPerPixel;
+  }
+  if (request.mode == RenderMode::Hybrid) {
+    stats.maskCoverage = hybrid_.maskCoverage();
+    stats.raysShot = hybrid_.raysShot();
+  }
   return stats;
 }
 

@@ -45,6 +45,7 @@ struct FrameStats {
   double wallMs = 0.0;                                 // submit to finish, as the CPU saw it
   uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far
   double maskCoverage = 0.0;        // hybrid: the fraction of pixels the ray mask traced
+  uint64_t raysShot = 0;            // ray-traced modes: camera rays traced this frame
   double passMsOf(const std::string& pass) const;
 };
 
@@ -88,7 +89,6 @@ class FramePipeline {
   GBufferPass gbuffer_;
   PostProcessDof postProcess_;
   HybridDof hybrid_;
-  uint32_t hybridFrames_ = 0;  // frames since the hybrid history started
   ReferencePass reference_;
   TonemapPass tonemap_;
   gpu::Buffer frameUniforms_;

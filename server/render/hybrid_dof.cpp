@@ -44,11 +44,11 @@ void HybridDof::resize(uint32_t width, uint32_t height) {
 
 void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
                        const RenderTargets& targets, const gpu::Image& postProcess,
-                       uint32_t firstSample, DebugView view) {
+                       DebugView view) {
   computeToCompute(cmd);
   mask_.record(cmd, timer, frameUniforms, targets, hasHistory_ ? &temporal_.variance() : nullptr);
   timer.begin(cmd, "hybrid_trace");
-  trace_.record(cmd, frameUniforms, mask_.workList(), *layers_, firstSample);
+  trace_.record(cmd, frameUniforms, mask_.workList(), *layers_);
   timer.end(cmd);
   computeToCompute(cmd);
   timer.begin(cmd, "hybrid_temporal");

@@ -22,16 +22,17 @@ class HybridDof {
   // Forgets the history: the next frame starts the accumulation over (a cut).
   void resetHistory() { hasHistory_ = false; }
   // Reads the G-buffer in targets and the post-process's output. raysPerPixel (the frame
-  // uniforms' samples per pixel) caps the mask's rays; firstSample advances every frame.
+  // uniforms' samples per pixel) caps the mask's rays.
   // view other than Final draws that debug view into output() instead of the composite.
   void record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-              const RenderTargets& targets, const gpu::Image& postProcess, uint32_t firstSample,
+              const RenderTargets& targets, const gpu::Image& postProcess,
               DebugView view = DebugView::Final);
 
   // rgba16f, full resolution, HDR.
   const gpu::Image& output() const { return *output_; }
   // After the frame has finished: the fraction of pixels the mask traced.
   double maskCoverage() const { return mask_.coverage(); }
+  uint64_t raysShot() const { return mask_.raysShot(); }
 
  private:
   const gpu::Context& context_;

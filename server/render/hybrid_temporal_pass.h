@@ -32,7 +32,7 @@ class HybridTemporalPass {
   struct History {
     gpu::Image nearLayer;  // rgba16f: accumulated near colour, accumulated hit ratio
     gpu::Image farLayer;   // rgba16f: accumulated far colour
-    gpu::Image moments;    // rgba32f: luminance mean, mean square, frames accumulated, depth
+    gpu::Image moments;    // rgba32f: luminance mean, mean square, rays accumulated, depth
   };
   // What the last record() wrote.
   const History& current() const;

@@ -15,7 +15,11 @@ HybridTraceLayers::HybridTraceLayers(const gpu::Context& context, uint32_t width
                                    "hybrid far position");
   layerCoc =
       gpu::createImage2D(context, width, height, VK_FORMAT_R16G16_SFLOAT, kUse, "hybrid layer coc");
-  gpu::makeGeneral(context, {&nearLayer, &farLayer, &farPosition, &layerCoc});
+  samplesTraced = gpu::createImage2D(context, width, height, VK_FORMAT_R32_UINT,
+                                     VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                                     "hybrid samples traced");
+  gpu::makeGeneral(context, {&nearLayer, &farLayer, &farPosition, &layerCoc, &samplesTraced});
+  context.submitAndWait([&](VkCommandBuffer cmd) { gpu::clearToZero(cmd, {&samplesTraced}); });
 }
 
 HybridTracePass::HybridTracePass(const gpu::Context& context, const GpuScene& scene)
@@ -27,12 +31,11 @@ HybridTracePass::HybridTracePass(const gpu::Context& context, const GpuScene& sc
                                             {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                             {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
                                             {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}},
-                                           sizeof(uint32_t))) {}
+                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+                                            {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {}
 
 void HybridTracePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                             const gpu::Buffer& workList, const HybridTraceLayers& layers,
-                             uint32_t firstSample) const {
+                             const gpu::Buffer& workList, const HybridTraceLayers& layers) const {
   scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout);
   // The work list starts with a VkDispatchIndirectCommand sized to its entries.
   gpu::dispatchComputeIndirect(context_, cmd, pipeline_,
@@ -42,8 +45,9 @@ void HybridTracePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUnifor
                                    .storageImage(2, layers.nearLayer)
                                    .storageImage(3, layers.farLayer)
                                    .storageImage(4, layers.farPosition)
-                                   .storageImage(5, layers.layerCoc),
-                               workList, &firstSample);
+                                   .storageImage(5, layers.layerCoc)
+                                   .storageImage(6, layers.samplesTraced),
+                               workList);
 }
 
 }  // namespace hdof

@@ -15,15 +15,17 @@ struct HybridTraceLayers {
   gpu::Image farLayer;     // rgba16f: average far-layer colour, alpha 1 - hit ratio
   gpu::Image farPosition;  // rgba32f: average world position of far hits, w their weight
   gpu::Image layerCoc;     // rg16f: average near |CoC| and far CoC, pixels
+  // r32ui, kept from frame to frame: how many rays each pixel has traced so far, so that its
+  // next rays continue its sample sequence whatever the mask gave it in earlier frames.
+  gpu::Image samplesTraced;
 };
 
 class HybridTracePass {
  public:
   HybridTracePass(const gpu::Context& context, const GpuScene& scene);
-  // workList: a buffer laid out as in shared/ray_work.h, already filled on the GPU. firstSample
-  // advances each frame so that the frames' rays do not repeat.
+  // workList: a buffer laid out as in shared/ray_work.h, already filled on the GPU.
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const gpu::Buffer& workList,
-              const HybridTraceLayers& layers, uint32_t firstSample) const;
+              const HybridTraceLayers& layers) const;
 
  private:
   const gpu::Context& context_;

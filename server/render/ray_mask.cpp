@@ -141,11 +141,19 @@ const gpu::Image& RayMask::rays() const { return resources_->rays; }
 
 const gpu::Buffer& RayMask::workList() const { return resources_->workList; }
 
-uint32_t RayMask::listedPixels() const {
+namespace {
+
+gpu::RayWorkHeader readHeader(const gpu::Buffer& buffer) {
   gpu::RayWorkHeader header;
-  std::memcpy(&header, resources_->header.mapped(), sizeof(header));
-  return header.count;
+  std::memcpy(&header, buffer.mapped(), sizeof(header));
+  return header;
 }
+
+}  // namespace
+
+uint32_t RayMask::listedPixels() const { return readHeader(resources_->header).count; }
+
+uint64_t RayMask::raysShot() const { return readHeader(resources_->header).rays; }
 
 double RayMask::coverage() const {
   return double(listedPixels()) / (double(resources_->width) * resources_->height);

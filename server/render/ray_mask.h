@@ -41,6 +41,7 @@ class RayMask {
   // After the recorded command buffer has finished: the pixels listed, and their fraction.
   uint32_t listedPixels() const;
   double coverage() const;
+  uint64_t raysShot() const;
 
  private:
   struct Resources;

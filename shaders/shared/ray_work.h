@@ -16,6 +16,8 @@ HDOF_CONST uint kRayWorkGroupSize = 64;
 struct RayWorkHeader {
   uint groupsX, groupsY, groupsZ;  // VkDispatchIndirectCommand
   uint count;                      // entries listed
+  uint rays;                       // their ray counts' sum
+  uint reserved0, reserved1, reserved2;
 };
 
 HDOF_CONST uint kRayWorkEntrySize = 8;
@@ -30,18 +32,21 @@ HDOF_CONST float kRayMaskDepthJumpHigh = 0.3;
 // Normals: the Sobel gradient of the filtered unit normal, per pixel.
 HDOF_CONST float kRayMaskNormalLow = 0.15;
 HDOF_CONST float kRayMaskNormalHigh = 0.5;
-// Luminance variance of the ray-traced output above which a pixel gets rays without an edge,
-// and at which it gets the full sample count.
+// Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a
+// pixel gets rays without an edge, and at which it gets the full sample count.
 HDOF_CONST float kRayMaskVarianceOn = 0.01;
 HDOF_CONST float kRayMaskVarianceFull = 0.1;
+// What the variance reports for a pixel with too little history to estimate it (full rays).
+HDOF_CONST float kRayMaskVarianceNew = 1.0;
 
 HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(hdof::gpu::RayWorkHeader) == 16);
+static_assert(sizeof(hdof::gpu::RayWorkHeader) == 32);
 static_assert(offsetof(hdof::gpu::RayWorkHeader, groupsX) == 0);
 static_assert(offsetof(hdof::gpu::RayWorkHeader, count) == 12);
+static_assert(offsetof(hdof::gpu::RayWorkHeader, rays) == 16);
 #else
 // Declares the work list as `workList` at set 1, the binding given.
 #define HDOF_RAY_WORK_LIST(bindingIndex, access)                              \

@@ -46,7 +46,7 @@ struct TemporalRig {
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
       mask.record(cmd, timer, uniforms, targets, frame > 0 ? &temporal.variance() : nullptr);
-      trace.record(cmd, uniforms, mask.workList(), layers, frame * kRaysPerPixel);
+      trace.record(cmd, uniforms, mask.workList(), layers);
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
       temporal.record(cmd, uniforms, mask.rays(), mask.workList(), layers, targets,
@@ -60,12 +60,15 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   TemporalRig rig;
   for (int i = 0; i < 3; ++i) rig.render(false);
   std::vector<glm::vec4> moments = readImage(rig.temporal.current().moments);
-  int traced = 0;
+  // The history counts rays: 1 to kRaysPerPixel a frame.
+  int traced = 0, allAlong = 0;
   for (const glm::vec4& m : moments) {
     if (m.z == 0.0f) continue;
     ++traced;
-    EXPECT_EQ(m.z, 3.0f);
+    EXPECT_LE(m.z, 3.0f * kRaysPerPixel);
+    allAlong += m.z >= 3.0f;
   }
+  EXPECT_GT(allAlong, traced / 2) << "most traced pixels stayed in the mask";
   EXPECT_GT(traced, int(kWidth * kHeight / 20)) << "the mask traced something";
 
   for (int i = 0; i < 9; ++i) rig.render(false);
@@ -82,7 +85,7 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
       variances.push_back(glm::unpackHalf2x16(halves[i]).x);
   }
   for (size_t i = 0; i < moments.size(); ++i) {
-    if (moments[i].z < 12.0f) continue;  // pixels the mask kept all along
+    if (moments[i].z < 12.0f) continue;  // pixels the mask kept (at least a ray a frame)
     ++counted;
     settled += variances[i] < 0.5f;
   }
@@ -93,7 +96,7 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   moments = readImage(rig.temporal.current().moments);
   for (const glm::vec4& m : moments) {
     if (m.z > 0.0f) {
-      ASSERT_EQ(m.z, 1.0f) << "a cut drops the history";
+      ASSERT_LE(m.z, float(kRaysPerPixel)) << "a cut drops the history";
     }
   }
 }

@@ -50,7 +50,7 @@ struct TraceRig {
       }
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
-      pass.record(cmd, uniforms, workList, layers, 0);
+      pass.record(cmd, uniforms, workList, layers);
     });
   }
 };
