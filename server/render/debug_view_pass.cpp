@@ -50,7 +50,7 @@ DebugViewPass::DebugViewPass(const gpu::Context& context)
 
 void DebugViewPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, DebugView view,
                            const gpu::Image& rays, const RenderTargets& targets,
-                           const HybridTemporalPass::History& history,
+                           const gpu::Image& nearLayer, const gpu::Image& farLayer,
                            const gpu::Image& output) const {
   uint32_t viewIndex = static_cast<uint32_t>(view);
   gpu::dispatchCompute(context_, cmd, pipeline_,
@@ -58,8 +58,8 @@ void DebugViewPass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms
                            .uniformBuffer(gpu::kBindingFrame, frameUniforms)
                            .sampledImage(1, rays, sampler_)
                            .sampledImage(2, targets.normalDepth, sampler_)
-                           .sampledImage(3, history.nearLayer, sampler_)
-                           .sampledImage(4, history.farLayer, sampler_)
+                           .sampledImage(3, nearLayer, sampler_)
+                           .sampledImage(4, farLayer, sampler_)
                            .storageImage(5, output),
                        targets.width, targets.height, 8, &viewIndex);
 }

@@ -3,7 +3,6 @@
 #pragma once
 
 #include "gpu/pipeline.h"
-#include "render/hybrid_temporal_pass.h"
 #include "render/render_targets.h"
 
 #include <optional>
@@ -21,8 +20,8 @@ class DebugViewPass {
  public:
   explicit DebugViewPass(const gpu::Context& context);
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, DebugView view,
-              const gpu::Image& rays, const RenderTargets& targets,
-              const HybridTemporalPass::History& history, const gpu::Image& output) const;
+              const gpu::Image& rays, const RenderTargets& targets, const gpu::Image& nearLayer,
+              const gpu::Image& farLayer, const gpu::Image& output) const;
 
  private:
   const gpu::Context& context_;

@@ -21,9 +21,8 @@ HybridCompositePass::HybridCompositePass(const gpu::Context& context)
 
 void HybridCompositePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
                                  const gpu::Image& rays, const RenderTargets& targets,
-                                 const gpu::Image& postProcess,
-                                 const HybridTemporalPass::History& history,
-                                 const gpu::Image& output) const {
+                                 const gpu::Image& postProcess, const gpu::Image& nearLayer,
+                                 const gpu::Image& farLayer, const gpu::Image& output) const {
   gpu::dispatchCompute(context_, cmd, pipeline_,
                        gpu::DescriptorWriter()
                            .uniformBuffer(gpu::kBindingFrame, frameUniforms)
@@ -32,8 +31,8 @@ void HybridCompositePass::record(VkCommandBuffer cmd, const gpu::Buffer& frameUn
                            .sampledImage(3, targets.specular, sampler_)
                            .sampledImage(4, targets.normalDepth, sampler_)
                            .sampledImage(5, postProcess, sampler_)
-                           .sampledImage(6, history.nearLayer, sampler_)
-                           .sampledImage(7, history.farLayer, sampler_)
+                           .sampledImage(6, nearLayer, sampler_)
+                           .sampledImage(7, farLayer, sampler_)
                            .storageImage(8, output),
                        targets.width, targets.height);
 }

@@ -26,6 +26,7 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene, uint32_
       layers_(std::make_unique<HybridTraceLayers>(context, width, height)),
       trace_(context, scene),
       temporal_(context, width, height),
+      spatial_(context, width, height),
       composite_(context),
       debugView_(context),
       output_(makeOutput(context, width, height)) {}
@@ -38,6 +39,7 @@ void HybridDof::resize(uint32_t width, uint32_t height) {
   mask_.resize(width, height);
   layers_ = std::make_unique<HybridTraceLayers>(context_, width, height);
   temporal_.resize(width, height);
+  spatial_.resize(width, height);
   output_ = makeOutput(context_, width, height);
   hasHistory_ = false;
 }
@@ -56,12 +58,18 @@ void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buf
                    !hasHistory_);
   timer.end(cmd);
   computeToCompute(cmd);
+  timer.begin(cmd, "hybrid_spatial");
+  spatial_.record(cmd, frameUniforms, mask_.workList(), mask_.rays(), *layers_, temporal_);
+  timer.end(cmd);
+  computeToCompute(cmd);
   timer.begin(cmd, "hybrid_composite");
+  const gpu::Image& nearLayer = spatial_.nearLayer();
+  const gpu::Image& farLayer = spatial_.farLayer();
   if (view == DebugView::Final)
-    composite_.record(cmd, frameUniforms, mask_.rays(), targets, postProcess, temporal_.current(),
+    composite_.record(cmd, frameUniforms, mask_.rays(), targets, postProcess, nearLayer, farLayer,
                       *output_);
   else
-    debugView_.record(cmd, frameUniforms, view, mask_.rays(), targets, temporal_.current(),
+    debugView_.record(cmd, frameUniforms, view, mask_.rays(), targets, nearLayer, farLayer,
                       *output_);
   timer.end(cmd);
   computeToCompute(cmd);

@@ -1,10 +1,11 @@
 // The hybrid depth of field (Tan, Chua, Biette, Bhojan 2020), passes 3-7 after the G-buffer and
 // the post-process: the adaptive ray mask, the selective ray trace over its work list, temporal
-// accumulation and the composite. Owns its images and the temporal history.
+// accumulation, spatial reconstruction and the composite. Owns its images and the temporal history.
 #pragma once
 
 #include "render/debug_view_pass.h"
 #include "render/hybrid_composite_pass.h"
+#include "render/hybrid_spatial_pass.h"
 #include "render/hybrid_temporal_pass.h"
 #include "render/hybrid_trace_pass.h"
 #include "render/ray_mask.h"
@@ -40,6 +41,7 @@ class HybridDof {
   std::unique_ptr<HybridTraceLayers> layers_;
   HybridTracePass trace_;
   HybridTemporalPass temporal_;
+  HybridSpatialPass spatial_;
   HybridCompositePass composite_;
   DebugViewPass debugView_;
   std::unique_ptr<gpu::Image> output_;

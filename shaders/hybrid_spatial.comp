@@ -1,0 +1,73 @@
+// Spatial reconstruction of the hybrid's ray-traced layers (the paper's pass after the temporal
+// accumulation): each traced pixel gathers its traced neighbours over a disc whose radius is the
+// pixel's circle of confusion (the average near and far CoC blended by the accumulated hit
+// ratio), rejecting neighbours whose own CoC is smaller than their distance (their blur does not
+// reach this pixel), and weighting them by how far their luminance lies from this pixel's in
+// units of the noise left in its average (the clamped variance of its rays over the rays
+// accumulated): a young, noisy pixel borrows from its neighbours, a converged one keeps its own
+// colour. One thread per pixel of the ray mask's work list.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 64) in;
+
+#include "lib/frame.glsl"
+#include "lib/sampling.glsl"
+#include "shared/ray_work.h"
+
+HDOF_RAY_WORK_LIST(1, readonly);
+layout(set = 1, binding = 2) uniform usampler2D rays;  // r8ui: rays traced this frame
+layout(set = 1, binding = 3) uniform sampler2D layerCoc;  // rg16f: near |CoC|, far CoC
+layout(set = 1, binding = 4) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
+layout(set = 1, binding = 5) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
+layout(set = 1, binding = 6) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
+layout(set = 1, binding = 7) uniform sampler2D variance;  // r16f: variance of one ray
+layout(set = 1, binding = 8) uniform writeonly image2D outNear;
+layout(set = 1, binding = 9) uniform writeonly image2D outFar;
+
+const int kTaps = 12;
+const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
+const float kVarianceMin = 1e-4, kVarianceMax = 1.0;
+const float kLuminanceSigmas = 2.0;
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// The diameter of the pixel's blur: its layers' CoCs weighted by its hit ratio.
+float blendedCoc(ivec2 pixel, float ratio) {
+  vec2 coc = texelFetch(layerCoc, pixel, 0).xy;
+  return mix(abs(coc.y), coc.x, ratio);
+}
+
+void main() {
+  if (gl_GlobalInvocationID.x >= workList.header.count) return;
+  ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
+  vec4 near = texelFetch(historyNear, pixel, 0);
+  vec4 far = texelFetch(historyFar, pixel, 0);
+  float lum = luminance(near.rgb + far.rgb);
+  float samples = max(texelFetch(historyMoments, pixel, 0).z, 1.0);
+  float noise = sqrt(clamp(texelFetch(variance, pixel, 0).r, kVarianceMin, kVarianceMax) / samples);
+  float radius = min(0.5 * blendedCoc(pixel, near.a), kMaxRadius);
+
+  vec4 nearSum = near, farSum = far;
+  float weightSum = 1.0;
+  if (radius >= 1.0) {
+    ivec2 size = ivec2(frame.image.xy);
+    float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
+    for (int i = 0; i < kTaps; ++i) {
+      // A Vogel spiral over the disc, turned per pixel so that no pattern shows.
+      float r = radius * sqrt((float(i) + 0.5) / float(kTaps));
+      float angle = 6.28318531 * (float(i) * 0.618034 + turn);
+      ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      if (texelFetch(rays, q, 0).r == 0u) continue;
+      vec4 qNear = texelFetch(historyNear, q, 0);
+      if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
+      vec4 qFar = texelFetch(historyFar, q, 0);
+      float w = exp(-abs(luminance(qNear.rgb + qFar.rgb) - lum) / (kLuminanceSigmas * noise));
+      nearSum += w * qNear;
+      farSum += w * qFar;
+      weightSum += w;
+    }
+  }
+  imageStore(outNear, pixel, nearSum / weightSum);
+  imageStore(outFar, pixel, farSum / weightSum);
+}
