@@ -18,13 +18,15 @@ layout(set = 1, binding = 3) uniform sampler2D specular;  // rgba16f: its specul
 layout(set = 1, binding = 4) uniform sampler2D normalDepth;  // rgba32f
 layout(set = 1, binding = 5) uniform sampler2D postProcess;  // rgba16f
 layout(set = 1, binding = 6) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
+layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
 layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
 // Distance from the mask's edge (pixels) over which the far field fades to the post-process.
 const float kSeamFade = 4.0;
+// Rays accumulated at which the focus zone shows the traced colour rather than the raster's.
+const float kConvergedRays = 32.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 
@@ -53,13 +55,16 @@ void main() {
   }
   vec4 near = texelFetch(historyNear, pixel, 0);
   float ratio = clamp(near.a, 0.0, 1.0);
-  vec3 traced = near.rgb + texelFetch(historyFar, pixel, 0).rgb;
+  vec4 far = texelFetch(historyFar, pixel, 0);
+  vec3 traced = near.rgb + far.rgb;
   float depth = texelFetch(normalDepth, pixel, 0).w;
   float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
-    // Past the near layer, the in-focus surface is the sharp raster's.
-    color = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
+    // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
+    // there are enough to give it the antialiased edges of the traced image.
+    vec3 raster = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
+    color = mix(raster, traced, clamp(far.a / kConvergedRays, 0.0, 1.0));
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(traced, pp, bokeh);

@@ -18,7 +18,7 @@ HDOF_RAY_WORK_LIST(1, readonly);
 layout(set = 1, binding = 2) uniform usampler2D rays;  // r8ui: rays traced this frame
 layout(set = 1, binding = 3) uniform sampler2D layerCoc;  // rg16f: near |CoC|, far CoC
 layout(set = 1, binding = 4) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 5) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
+layout(set = 1, binding = 5) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
 layout(set = 1, binding = 6) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
 layout(set = 1, binding = 7) uniform sampler2D variance;  // r16f: variance of one ray
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
@@ -69,5 +69,5 @@ void main() {
     }
   }
   imageStore(outNear, pixel, nearSum / weightSum);
-  imageStore(outFar, pixel, farSum / weightSum);
+  imageStore(outFar, pixel, vec4(farSum.rgb / weightSum, far.a));
 }

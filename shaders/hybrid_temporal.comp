@@ -22,7 +22,7 @@ layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linea
 // far by one minus it), so that frames in which a layer got no rays count as its absence, not
 // as black, and near + far is the pixel's colour; the near alpha is the accumulated hit ratio.
 layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio)
+layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
 layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
 HDOF_RAY_WORK_LIST(10, readonly);
 layout(set = 1, binding = 11) uniform writeonly image2D outNear;
@@ -112,7 +112,7 @@ void main() {
                        ? kRayMaskVarianceNew
                        : max(m.y - m.x * m.x, 0.0) * rays;
   imageStore(outNear, pixel, outNearValue);
-  imageStore(outFar, pixel, vec4(outFarColor, 1.0));
+  imageStore(outFar, pixel, vec4(outFarColor, accumulated));
   imageStore(outMoments, pixel, vec4(m, accumulated, depth));
   imageStore(outVariance, pixel, vec4(variance));
 }

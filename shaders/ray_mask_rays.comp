@@ -16,6 +16,10 @@ layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 3) uniform sampler2D variance;
 layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
 
+layout(push_constant) uniform Push {
+  uint everywhere;  // 1: every pixel gets the full rays
+} push;
+
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(frame.image.xy);
@@ -36,5 +40,6 @@ void main() {
   uint count = 0u;
   if (nearEdge || noise >= kRayMaskVarianceOn)
     count = clamp(uint(ceil(need * float(samples))), 1u, samples);
+  if (push.everywhere != 0u) count = samples;
   imageStore(rays, pixel, uvec4(count));
 }

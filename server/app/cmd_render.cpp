@@ -45,7 +45,7 @@ int runRender(std::span<const std::string> args) {
   LensOptions lensOptions;
   std::string mode = "pinhole", size = "640x360", out, cameraPathFile, view = "final";
   uint32_t spp = 0, frames = 1;
-  bool noJitter = false;
+  bool noJitter = false, fullMask = false;
   ArgParser parser(
       "render", "--out FILE.png|FILE.jpg [options]",
       "Renders a still image or a sequence. 'pinhole' is the sharp raster image; 'raytrace' "
@@ -65,6 +65,8 @@ int runRender(std::span<const std::string> args) {
               "ray tracing: rays through pixel centres, as the raster samples (no antialiasing)",
               &noJitter);
   parser.option("--view", debugViewNames(), "hybrid: a debug view instead of the image", &view);
+  parser.flag("--full-mask", "hybrid: trace every pixel at --spp rays, as if the mask covered all",
+              &fullMask);
   parser.option("--frames", "N", "frames to render (default 1)", &frames);
   parser.option("--camera-path", "FILE.json", "keyframes the camera follows over the frames",
                 &cameraPathFile);
@@ -79,6 +81,8 @@ int runRender(std::span<const std::string> args) {
   if (!debugView) throw UsageError("unknown view '" + view + "' (views: " + debugViewNames() + ")");
   if (*debugView != DebugView::Final && *renderMode != RenderMode::Hybrid)
     throw UsageError("--view " + view + " shows a stage of the hybrid: use it with --mode hybrid");
+  if (fullMask && *renderMode != RenderMode::Hybrid)
+    throw UsageError("--full-mask changes the hybrid's ray mask: use it with --mode hybrid");
   if (!parser.given("--spp")) spp = *renderMode == RenderMode::Reference ? 64 : 1;
   if (spp < 1 || spp > 65536) throw UsageError("--spp must be 1 to 65536");
   if (frames < 1 || frames > 100000) throw UsageError("--frames must be 1 to 100000");
@@ -101,6 +105,7 @@ int runRender(std::span<const std::string> args) {
   request.settings.pixelJitter = !noJitter;
   request.settings.samplesPerPixel = spp;
   request.view = *debugView;
+  request.traceEverywhere = fullMask;
 
   uint64_t work = uint64_t(frames) * (request.mode == RenderMode::Reference ? spp : 1);
   Progress progress(frames > 1 ? "frames" : modeName(request.mode), work);

@@ -131,7 +131,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
         radiance = &postProcess_.output();
       }
       if (request.mode == RenderMode::Hybrid) {
-        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(), request.view);
+        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(), request.view,
+                       request.traceEverywhere);
         radiance = &hybrid_.output();
       }
       break;

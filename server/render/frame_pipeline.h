@@ -37,6 +37,9 @@ struct FrameRequest {
   uint32_t firstSample = 0;
   bool accumulate = false;
   DebugView view = DebugView::Final;  // hybrid: what the frame shows
+  // hybrid: trace every pixel at the full rays, as if the mask covered the image (measures the
+  // reconstruction and composite against raytrace).
+  bool traceEverywhere = false;
 };
 
 struct FrameStats {

@@ -45,10 +45,11 @@ void HybridDof::resize(uint32_t width, uint32_t height) {
 }
 
 void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-                       const RenderTargets& targets, const gpu::Image& postProcess,
-                       DebugView view) {
+                       const RenderTargets& targets, const gpu::Image& postProcess, DebugView view,
+                       bool traceEverywhere) {
   computeToCompute(cmd);
-  mask_.record(cmd, timer, frameUniforms, targets, hasHistory_ ? &temporal_.variance() : nullptr);
+  mask_.record(cmd, timer, frameUniforms, targets, hasHistory_ ? &temporal_.variance() : nullptr,
+               traceEverywhere);
   timer.begin(cmd, "hybrid_trace");
   trace_.record(cmd, frameUniforms, mask_.workList(), *layers_);
   timer.end(cmd);

@@ -25,9 +25,10 @@ class HybridDof {
   // Reads the G-buffer in targets and the post-process's output. raysPerPixel (the frame
   // uniforms' samples per pixel) caps the mask's rays.
   // view other than Final draws that debug view into output() instead of the composite.
+  // traceEverywhere: a full mask (every pixel gets the full rays).
   void record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
               const RenderTargets& targets, const gpu::Image& postProcess,
-              DebugView view = DebugView::Final);
+              DebugView view = DebugView::Final, bool traceEverywhere = false);
 
   // rgba16f, full resolution, HDR.
   const gpu::Image& output() const { return *output_; }

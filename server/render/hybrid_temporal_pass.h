@@ -31,7 +31,7 @@ class HybridTemporalPass {
 
   struct History {
     gpu::Image nearLayer;  // rgba16f: accumulated near colour, accumulated hit ratio
-    gpu::Image farLayer;   // rgba16f: accumulated far colour
+    gpu::Image farLayer;   // rgba16f: accumulated far colour, rays accumulated
     gpu::Image moments;    // rgba32f: luminance mean, mean square, rays accumulated, depth
   };
   // What the last record() wrote.

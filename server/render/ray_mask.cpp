@@ -96,7 +96,8 @@ void RayMask::resize(uint32_t width, uint32_t height) {
 }
 
 void RayMask::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-                     const RenderTargets& targets, const gpu::Image* varianceOrNull) const {
+                     const RenderTargets& targets, const gpu::Image* varianceOrNull,
+                     bool everywhere) const {
   const Resources& r = *resources_;
   if (targets.width != r.width || targets.height != r.height)
     throw std::logic_error("RayMask::record: targets size differs from the images");
@@ -123,8 +124,9 @@ void RayMask::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffe
   timed("ray_mask_dilate", [&] { dilate_.record(cmd, frameUniforms, r.tiles, r.dilatedTiles); });
   timed("ray_mask_spread",
         [&] { spread_.record(cmd, frameUniforms, r.reach, r.strength, r.dilatedTiles, r.spread); });
-  timed("ray_mask_rays",
-        [&] { rays_.record(cmd, frameUniforms, r.spread, r.dilatedTiles, variance, r.rays); });
+  timed("ray_mask_rays", [&] {
+    rays_.record(cmd, frameUniforms, r.spread, r.dilatedTiles, variance, r.rays, everywhere);
+  });
   timed("ray_mask_compact", [&] { compact_.record(cmd, frameUniforms, r.rays, r.workList); });
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |

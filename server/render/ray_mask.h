@@ -31,8 +31,10 @@ class RayMask {
   // single-channel float format, sampled usage; null reads as zero). Each pass is timed as
   // "ray_mask_<pass>". Ends with rays() and workList() visible to compute shaders and to
   // vkCmdDispatchIndirect, and the list's header on its way to the CPU.
+  // everywhere: every pixel gets the full rays.
   void record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-              const RenderTargets& targets, const gpu::Image* varianceOrNull) const;
+              const RenderTargets& targets, const gpu::Image* varianceOrNull,
+              bool everywhere = false) const;
 
   // r8ui, full resolution: rays per pixel, 0 where the post-process is good enough.
   const gpu::Image& rays() const;

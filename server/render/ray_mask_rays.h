@@ -9,10 +9,11 @@ namespace hdof {
 class RayMaskRaysPass {
  public:
   explicit RayMaskRaysPass(const gpu::Context& context);
-  // variance: any single-channel float image, read through a nearest sampler.
+  // variance: any single-channel float image, read through a nearest sampler. everywhere: every
+  // pixel gets the full rays (to measure the reconstruction without the mask).
   void record(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms, const gpu::Image& spread,
-              const gpu::Image& dilatedTiles, const gpu::Image& variance,
-              const gpu::Image& rays) const;
+              const gpu::Image& dilatedTiles, const gpu::Image& variance, const gpu::Image& rays,
+              bool everywhere = false) const;
 
  private:
   const gpu::Context& context_;

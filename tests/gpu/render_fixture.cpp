@@ -41,6 +41,7 @@ FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   request.settings.width = spec.width;
   request.settings.height = spec.height;
   request.settings.pixelJitter = spec.pixelJitter;
+  request.traceEverywhere = spec.traceEverywhere;
   request.settings.samplesPerPixel = spec.raysPerPixel;
   return request;
 }

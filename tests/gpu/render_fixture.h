@@ -33,6 +33,7 @@ struct RenderSpec {
   uint32_t raysPerPixel = 1;  // reference: in total; raytrace: per frame
   uint32_t frames = 1;        // raytrace: frames of a still camera
   bool pixelJitter = true;
+  bool traceEverywhere = false;  // hybrid: a full ray mask
   Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
 };
 
