@@ -1,7 +1,8 @@
 // Temporal accumulation of the hybrid's ray-traced layers (exponential moving average, as in
 // TAA): the near layer reprojected with the motion vectors, the far layer through its average far
 // world position (the neighbours' where a pixel had no far hit), history rejected where the
-// surface under the near reprojection changed depth (disocclusion) or on a cut; luminance
+// surface under the near reprojection changed depth (disocclusion) or on a cut, and, in motion,
+// clamped to the range of this frame's rays around the pixel, with a shorter window; luminance
 // moments give the variance that the next frame's ray mask reads, newly traced pixels counting
 // as noisy. One thread per pixel of the ray mask's work list; the others' history was cleared
 // (pixels the mask left out this frame drop their history).
@@ -38,6 +39,11 @@ layout(push_constant) uniform Push {
 } push;
 
 const float kDisocclusion = 0.1;  // relative depth change that rejects the near history
+// Screen motion (pixels per frame) below which the view counts as still, and above which as
+// moving: history is clamped to the neighbourhood's range in motion only.
+const float kStill = 0.05, kMoving = 0.5;
+// The moving average's floor in motion: a shorter window, that lags less.
+const float kMovingMinBlend = 0.4;
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -58,9 +64,39 @@ vec4 farWorldPosition(ivec2 pixel) {
   return sum.w > 0.0 ? vec4(sum.xyz / sum.w, 1.0) : vec4(0.0);
 }
 
+// The range of this frame's premultiplied layers over the traced pixels of the 3x3 neighbourhood.
+struct NeighbourRange {
+  vec4 nearMin, nearMax;
+  vec3 farMin, farMax;
+};
+
+NeighbourRange neighbourRange(ivec2 pixel) {
+  NeighbourRange range = NeighbourRange(vec4(1e30), vec4(-1e30), vec3(1e30), vec3(-1e30));
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.image.xy) - 1);
+      if (texelFetch(rays, q, 0).r == 0u) continue;
+      vec4 n = texelFetch(nearLayer, q, 0);
+      vec4 nearNow = vec4(n.rgb * n.a, n.a);
+      vec3 farNow = texelFetch(farLayer, q, 0).rgb * (1.0 - n.a);
+      range.nearMin = min(range.nearMin, nearNow);
+      range.nearMax = max(range.nearMax, nearNow);
+      range.farMin = min(range.farMin, farNow);
+      range.farMax = max(range.farMax, farNow);
+    }
+  return range;
+}
+
 vec2 pixelOf(mat4 viewProj, vec3 world) {
   vec4 clip = viewProj * vec4(world, 1.0);
   return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
+}
+
+// How a world point moved on screen since the previous frame (previous minus current). The far
+// layer's average position seen through the lens need not project onto this pixel, but it moves
+// as the background it stands for does.
+vec2 screenMotion(vec3 world) {
+  return pixelOf(frame.previousViewProj, world) - pixelOf(frame.viewProj, world);
 }
 
 void main() {
@@ -72,41 +108,45 @@ void main() {
   vec4 far = texelFetch(farLayer, pixel, 0);
   vec2 center = vec2(pixel) + 0.5;
 
-  // Near layer: where the surface under this pixel was, if it was that surface.
-  vec2 previousNear = center + texelFetch(motion, pixel, 0).xy;
+  // The pixel's statistics: where the surface under it was, if it was that surface.
+  vec2 pixelMotion = texelFetch(motion, pixel, 0).xy;
+  vec2 previousPixel = center + pixelMotion;
   vec4 moments = vec4(0.0);
-  bool nearValid = push.reset == 0u && insideImage(previousNear);
-  if (nearValid) {
-    moments = texelFetch(historyMoments, ivec2(previousNear), 0);
-    nearValid = moments.z > 0.0 && abs(moments.w - depth) <= kDisocclusion * depth;
+  bool pixelValid = push.reset == 0u && insideImage(previousPixel);
+  if (pixelValid) {
+    moments = texelFetch(historyMoments, ivec2(previousPixel), 0);
+    pixelValid = moments.z > 0.0 && abs(moments.w - depth) <= kDisocclusion * depth;
   }
   // The moving average counts rays, not frames (the mask gives a pixel more or fewer rays from
   // frame to frame): a frame's weight is its share of the rays in the window, which is
   // 1 / minBlend frames at the full rays per pixel.
   float rays = float(entry.y);
-  float window = float(max(frame.image.w, 1u)) / push.minBlend;
-  float samples = nearValid ? moments.z : 0.0;
+  float moving = smoothstep(kStill, kMoving, length(pixelMotion));
+  float window = float(max(frame.image.w, 1u)) / mix(push.minBlend, kMovingMinBlend, moving);
+  float samples = pixelValid ? moments.z : 0.0;
   float accumulated = min(samples + rays, window);
   float blend = rays / accumulated;
   vec4 nearNow = vec4(near.rgb * near.a, near.a);
-  vec4 nearHistory = nearValid ? texelFetch(historyNear, ivec2(previousNear), 0) : nearNow;
-  vec4 outNearValue = mix(nearHistory, nearNow, blend);
+  vec3 farNow = far.rgb * (1.0 - near.a);
+  // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
+  // moved over or off it): clamped into their range, as TAA does.
+  NeighbourRange range = neighbourRange(pixel);
+  // Near layer: with the surface under the pixel.
+  vec4 nearHistory = pixelValid ? texelFetch(historyNear, ivec2(previousPixel), 0) : nearNow;
+  nearHistory = mix(nearHistory, clamp(nearHistory, range.nearMin, range.nearMax), moving);
 
   // Far layer: where the background seen through this pixel was.
   vec4 world = farWorldPosition(pixel);
-  // The far point's own screen motion, applied to this pixel: its average position seen through
-  // the lens does not project onto this pixel, only moves as the background behind it does.
-  vec2 previousFar = world.w > 0.0 ? center + pixelOf(frame.previousViewProj, world.xyz) -
-                                         pixelOf(frame.viewProj, world.xyz)
-                                   : previousNear;
+  vec2 previousFar = world.w > 0.0 ? center + screenMotion(world.xyz) : previousPixel;
   bool farValid = push.reset == 0u && insideImage(previousFar) &&
                   texelFetch(historyMoments, ivec2(previousFar), 0).z > 0.0;
-  vec3 farNow = far.rgb * (1.0 - near.a);
   vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : farNow;
+  farHistory = mix(farHistory, clamp(farHistory, range.farMin, range.farMax), moving);
   vec3 outFarColor = mix(farHistory, farNow, farValid ? blend : 1.0);
+  vec4 outNearValue = mix(nearHistory, nearNow, blend);
 
   float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
-  vec2 m = nearValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
+  vec2 m = pixelValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
   // A short history says little about the variance: such pixels ask for full rays.
   float variance = accumulated < 4.0 * float(frame.image.w)
                        ? kRayMaskVarianceNew

@@ -2,6 +2,7 @@
 // the partial-occlusion region, with its frame time.
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/quality_motion.h"
 #include "app/render_setup.h"
 #include "quality/occlusion_mask.h"
 #include "quality/reference_image.h"
@@ -46,8 +47,8 @@ int runQuality(std::span<const std::string> args) {
   lensOptions.fNumber = 1.4f;
   std::string size = "640x360", outDir = "out/quality";
   ReferenceOptions referenceOptions;
-  std::string referencePath, modes = "pinhole,postprocess,hybrid,raytrace";
-  uint32_t rays = 4;
+  std::string referencePath, modes = "pinhole,postprocess,hybrid,raytrace", cameraPathFile;
+  uint32_t rays = 4, frames = 32;
   bool json = false;
   ArgParser parser(
       "quality", "[options]",
@@ -56,7 +57,10 @@ int runQuality(std::span<const std::string> args) {
       "region (pixels within the near-field CoC of a depth edge whose near side is out of focus),\n"
       "and the GPU time per frame. Images and the region mask go to --out. For the paper's view:\n"
       "  hdof quality --scene ../shared/scenes/living-room/living-room.gltf --camera closeup \\\n"
-      "    --focus-distance 2.4 --f-number 1.4 --focal-length 50");
+      "    --focus-distance 2.4 --f-number 1.4 --focal-length 50\n"
+      "With --camera-path, the modes render the path's frames in motion instead, and are compared\n"
+      "at four of them with references of those views (256 rays per pixel unless "
+      "--reference-spp).");
   addSceneOptions(parser, sceneOptions);
   addLensOptions(parser, lensOptions);
   parser.option("--size", "WxH", "image size (default 640x360)", &size);
@@ -81,11 +85,15 @@ int runQuality(std::span<const std::string> args) {
   parser.option("--rays", "N",
                 "rays per pixel per frame of hybrid and raytrace (default 4; raytrace also at 1)",
                 &rays);
+  parser.option("--camera-path", "FILE.json",
+                "measure in motion along these keyframes (see hdof render --camera-path)",
+                &cameraPathFile);
+  parser.option("--frames", "N", "frames along --camera-path (default 32)", &frames);
   parser.flag("--json", "print the results as one JSON object", &json);
   if (!parser.parse(args)) return 0;
   Size2 imageSize = parseSize(size, 4096);
   if (rays < 1 || rays > 64) throw UsageError("--rays must be 1 to 64");
-  std::vector<ModeRun> runs;
+  std::vector<RenderMode> modeList;
   for (size_t start = 0; start <= modes.size();) {
     size_t end = std::min(modes.find(',', start), modes.size());
     std::string name = modes.substr(start, end - start);
@@ -93,14 +101,15 @@ int runQuality(std::span<const std::string> args) {
     if (!mode || *mode == RenderMode::Reference)
       throw UsageError("--modes: unknown mode '" + name +
                        "'; use pinhole, postprocess, hybrid or raytrace");
-    if (*mode == RenderMode::Hybrid)
-      runs.push_back({*mode, rays, {1, 16}});
-    else if (*mode == RenderMode::RayTrace) {
-      if (rays != 1) runs.push_back({*mode, 1, {1, 16}});
-      runs.push_back({*mode, rays, {1, 16}});
-    } else
-      runs.push_back({*mode});
+    modeList.push_back(*mode);
     start = end + 1;
+  }
+  std::optional<CameraPath> path;
+  if (!cameraPathFile.empty()) {
+    if (!referencePath.empty())
+      throw UsageError("--reference is a still's reference: it cannot go with --camera-path");
+    if (frames < 4 || frames > 100000) throw UsageError("--frames must be 4 to 100000");
+    path = loadCameraPath(cameraPathFile);
   }
   if (referenceOptions.maxRays < referenceOptions.startRays || referenceOptions.maxRays > 65536)
     throw UsageError("--max-reference-spp must be 16 to 65536");
@@ -112,6 +121,28 @@ int runQuality(std::span<const std::string> args) {
   FrameRequest& request = setup.request;
   FramePipeline& pipeline = setup.pipeline;
   std::filesystem::create_directories(outDir);
+  if (path) {
+    MotionQualityOptions motion;
+    motion.frames = frames;
+    motion.referenceRays = referenceOptions.fixedRays ? referenceOptions.fixedRays : 256;
+    motion.raysPerPixel = rays;
+    motion.modes = modeList;
+    motion.outDir = outDir;
+    motion.json = json;
+    measureQualityInMotion(setup, *path, motion);
+    return 0;
+  }
+  std::vector<ModeRun> runs;
+  for (RenderMode mode : modeList) {
+    if (mode == RenderMode::Hybrid) {
+      runs.push_back({mode, rays, {1, 16}});
+    } else if (mode == RenderMode::RayTrace) {
+      if (rays != 1) runs.push_back({mode, 1, {1, 16}});
+      runs.push_back({mode, rays, {1, 16}});
+    } else {
+      runs.push_back({mode});
+    }
+  }
   auto outPath = [&](const std::string& name) {
     return (std::filesystem::path(outDir) / name).string();
   };

@@ -88,13 +88,7 @@ int runRender(std::span<const std::string> args) {
   if (frames < 1 || frames > 100000) throw UsageError("--frames must be 1 to 100000");
   Size2 imageSize = parseSize(size, 4096);
   std::optional<CameraPath> path;
-  if (!cameraPathFile.empty()) {
-    try {
-      path = CameraPath::load(cameraPathFile);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(e.what());
-    }
-  }
+  if (!cameraPathFile.empty()) path = loadCameraPath(cameraPathFile);
 
   RenderSetup setup(sceneOptions, lensOptions, imageSize);
   FrameRequest& request = setup.request;

@@ -102,6 +102,14 @@ RenderSetup::RenderSetup(const SceneOptions& sceneOptions, const LensOptions& le
       gpuScene(context, loaded.scene, loaded.bvh),
       pipeline(context, loaded.scene, gpuScene, size.width, size.height) {}
 
+CameraPath loadCameraPath(const std::string& file) {
+  try {
+    return CameraPath::load(file);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());

@@ -5,6 +5,7 @@
 
 #include "app/cli.h"
 #include "gpu/context.h"
+#include "render/camera_path.h"
 #include "render/frame_pipeline.h"
 #include "scene/bvh.h"
 #include "scene/gpu_scene.h"
@@ -55,6 +56,9 @@ struct RenderSetup {
   GpuScene gpuScene;
   FramePipeline pipeline;
 };
+
+// The camera path in a file; throws UsageError with the file's problem.
+CameraPath loadCameraPath(const std::string& file);
 
 double median(std::vector<double> values);
 
