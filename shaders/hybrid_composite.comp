@@ -27,6 +27,8 @@ const float kFarBlendRatio = 0.1;
 const float kSeamFade = 4.0;
 // Rays accumulated at which the focus zone shows the traced colour rather than the raster's.
 const float kConvergedRays = 32.0;
+// Rays accumulated from which the near and far fields show the traced colour alone.
+const float kTrustedRays = 32.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 
@@ -59,6 +61,8 @@ void main() {
   vec3 traced = near.rgb + far.rgb;
   float depth = texelFetch(normalDepth, pixel, 0).w;
   float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
+  // A pixel whose history is short (the view moves) is noisy: the post-process shares it.
+  float trust = clamp(far.a / kTrustedRays, 0.0, 1.0);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
@@ -67,10 +71,10 @@ void main() {
     color = mix(raster, traced, clamp(far.a / kConvergedRays, 0.0, 1.0));
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
-    color = mix(traced, pp, bokeh);
+    color = mix(pp, traced, trust * (1.0 - bokeh));
   } else {
     float inside = smoothstep(0.5, 1.0, tracedShare(pixel));
-    color = mix(pp, traced, max(smoothstep(0.0, kFarBlendRatio, ratio), inside));
+    color = mix(pp, traced, trust * max(smoothstep(0.0, kFarBlendRatio, ratio), inside));
   }
   imageStore(outColor, pixel, vec4(color, 1.0));
 }

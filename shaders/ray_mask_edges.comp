@@ -5,6 +5,8 @@
 // by the nearest inverse depth makes the jump relative, so edges count at every distance.
 // Only edges whose near side is out of focus need rays (partial occlusion), within that side's
 // CoC radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is.
+// In the far field only depth edges with a wide enough blur count: creases of a surface and
+// small background blurs are the post-process's.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -45,10 +47,12 @@ void main() {
   // A step of relative height j gives a second difference of j / 4 next to it.
   float depthJump = 4.0 * max(abs(inverseDxx), abs(inverseDyy)) / nearestInverse;
   float normalGradient = sqrt(dot(normalDx, normalDx) + dot(normalDy, normalDy));
-  float edge = max(
-      smoothstep(kRayMaskDepthJumpLow, kRayMaskDepthJumpHigh, depthJump),
-      smoothstep(kRayMaskNormalLow, kRayMaskNormalHigh, normalGradient));
-  float nearCoc = abs(signedCoc(1.0 / nearestInverse));
+  float depthEdge = smoothstep(kRayMaskDepthJumpLow, kRayMaskDepthJumpHigh, depthJump);
+  float normalEdge = smoothstep(kRayMaskNormalLow, kRayMaskNormalHigh, normalGradient);
+  float nearSideCoc = signedCoc(1.0 / nearestInverse);
+  float nearCoc = abs(nearSideCoc);
+  float edge = nearSideCoc < 0.0 ? max(depthEdge, normalEdge)
+                                 : (nearCoc >= kRayMaskFarEdgeCoc ? depthEdge : 0.0);
   // The band the kernel marks is 2 px to each side of the true edge; the margin keeps rays over
   // the whole blur of the near side from any pixel of the band. The tile dilation reaches as far
   // as kDofMaxCoc.

@@ -32,6 +32,9 @@ HDOF_CONST float kRayMaskDepthJumpHigh = 0.3;
 // Normals: the Sobel gradient of the filtered unit normal, per pixel.
 HDOF_CONST float kRayMaskNormalLow = 0.15;
 HDOF_CONST float kRayMaskNormalHigh = 0.5;
+// Far-field edges (their near side behind the focus plane) get rays from this CoC diameter
+// (pixels) on, and only for depth jumps: below it the post-process's background gather holds up.
+HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a
 // pixel gets rays without an edge, and at which it gets the full sample count.
 HDOF_CONST float kRayMaskVarianceOn = 0.01;
