@@ -64,7 +64,7 @@ WsClient::~WsClient() {
 bool WsClient::connected(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
   changed_.wait_for(lock, timeout, [&] { return state_ != State::Connecting; });
-  return state_ == State::Open;
+  return opened_;
 }
 
 void WsClient::sendText(std::string text) {
@@ -114,6 +114,7 @@ int WsClient::onEvent(lws* wsi, int reason, void* in, size_t len) {
       {
         std::lock_guard lock(mutex_);
         state_ = State::Open;
+        opened_ = true;
       }
       changed_.notify_all();
       lws_callback_on_writable(wsi);

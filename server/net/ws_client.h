@@ -45,7 +45,8 @@ class WsClient {
   WsClient(const WsClient&) = delete;
   WsClient& operator=(const WsClient&) = delete;
 
-  // Waits until the handshake is done (true) or failed / timed out (false).
+  // Waits until the handshake is done (true, even when the server has closed again since) or
+  // failed / timed out (false).
   bool connected(std::chrono::milliseconds timeout);
   void sendText(std::string text);
   void sendBinary(std::vector<uint8_t> data);
@@ -69,6 +70,7 @@ class WsClient {
   std::mutex mutex_;
   std::condition_variable changed_;
   enum class State { Connecting, Open, Closed } state_ = State::Connecting;
+  bool opened_ = false;
   struct Outgoing {
     std::vector<uint8_t> data;
     bool binary;
