@@ -115,8 +115,8 @@ struct Callbacks {
     return server(wsi).onSession(wsi, reason, slot, in, len);
   }
   static int http(lws* wsi, lws_callback_reasons reason, void* user, void* in, size_t len) {
-    if (reason == LWS_CALLBACK_HTTP || reason == LWS_CALLBACK_HTTP_WRITEABLE ||
-        reason == LWS_CALLBACK_CLOSED_HTTP) {
+    if (user && (reason == LWS_CALLBACK_HTTP || reason == LWS_CALLBACK_HTTP_WRITEABLE ||
+                 reason == LWS_CALLBACK_CLOSED_HTTP)) {
       if (int result = server(wsi).onHttp(wsi, reason, *static_cast<std::string**>(user));
           result != 1)
         return result;

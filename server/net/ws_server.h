@@ -69,6 +69,8 @@ class WsServer {
   struct Connection;  // one WebSocket, on run()'s thread only
 
  private:
+  // libwebsockets' callbacks: 0 to go on, -1 to close the connection; onHttp returns 1 for what
+  // libwebsockets' own HTTP handling answers (files of the web root, 404).
   int onSession(lws* wsi, int reason, Connection*& slot, void* in, size_t len);
   int onHttp(lws* wsi, int reason, std::string*& body);
   friend struct Callbacks;
