@@ -106,23 +106,18 @@ class Fields {
                  " (got " + formatNumber(v) + ")");
     return v;
   }
-  // JSON Schema's integer: any number without a fraction (2.0 is 2).
+  // JSON Schema's integer: any number without a fraction (2.0 is 2). The limits are below 2^53,
+  // so comparing as doubles is exact.
   static uint64_t checkInteger(const json& value, const std::string& field, uint64_t min,
                                uint64_t max) {
-    if (!value.is_number() ||
-        (value.is_number_float() && value.get<double>() != std::floor(value.get<double>())))
+    double v = value.is_number() ? value.get<double>() : 0.5;
+    if (v != std::floor(v))
       reject(ErrorCode::BadField, field, quote(field) + " must be a whole number");
-    double asDouble = value.get<double>();
-    bool below = value.is_number_integer() && !value.is_number_unsigned()
-                     ? value.get<int64_t>() < static_cast<int64_t>(min)
-                     : asDouble < static_cast<double>(min);
-    bool above = value.is_number_unsigned() ? value.get<uint64_t>() > max
-                                            : asDouble > static_cast<double>(max);
-    if (below || above)
+    if (v < double(min) || v > double(max))
       reject(ErrorCode::OutOfRange, field,
              quote(field) + " must be " + std::to_string(min) + " to " + std::to_string(max) +
                  " (got " + value.dump() + ")");
-    return value.is_number_unsigned() ? value.get<uint64_t>() : static_cast<uint64_t>(asDouble);
+    return uint64_t(v);
   }
 
   const json& object_;
