@@ -11,5 +11,6 @@ int runRender(std::span<const std::string> args);
 int runCompare(std::span<const std::string> args);
 int runBench(std::span<const std::string> args);
 int runQuality(std::span<const std::string> args);
+int runServe(std::span<const std::string> args);
 
 }  // namespace hdof

@@ -22,6 +22,8 @@ struct Command {
 };
 
 const Command kCommands[] = {
+    {"serve", "run the render daemon: sessions over WebSocket, the browser client over HTTP",
+     hdof::runServe},
     {"render", "render a still image of a scene (pinhole raster or thin-lens reference)",
      hdof::runRender},
     {"compare", "print PSNR and SSIM between two images, optionally inside a mask",

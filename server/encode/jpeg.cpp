@@ -55,4 +55,22 @@ std::vector<uint8_t> encodeJpeg(const ImageRgba8& image, int quality, bool subsa
   return {output, output + size};
 }
 
+ImageRgba8 decodeJpeg(std::span<const uint8_t> jpeg) {
+  TjHandle handle(tjInitDecompress());
+  if (!handle) throw std::runtime_error("TurboJPEG: cannot create a decompressor");
+  int width = 0, height = 0, subsampling = 0, colorspace = 0;
+  if (tjDecompressHeader3(handle.get(), jpeg.data(), jpeg.size(), &width, &height, &subsampling,
+                          &colorspace) != 0 ||
+      width <= 0 || height <= 0)
+    throw std::invalid_argument(std::string("not a JPEG: ") + tjGetErrorStr2(handle.get()));
+  ImageRgba8 image;
+  image.width = uint32_t(width);
+  image.height = uint32_t(height);
+  image.pixels.resize(size_t(width) * height * 4);
+  if (tjDecompress2(handle.get(), jpeg.data(), jpeg.size(), image.pixels.data(), width, width * 4,
+                    height, TJPF_RGBA, 0) != 0)
+    throw std::invalid_argument(std::string("corrupt JPEG: ") + tjGetErrorStr2(handle.get()));
+  return image;
+}
+
 }  // namespace hdof

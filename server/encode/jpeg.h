@@ -4,6 +4,7 @@
 #include "image/image.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace hdof {
@@ -13,5 +14,9 @@ namespace hdof {
 // Safe to call from several threads at once: each thread keeps its own compressor.
 // Throws std::invalid_argument on a bad image or quality, std::runtime_error when TurboJPEG fails.
 std::vector<uint8_t> encodeJpeg(const ImageRgba8& image, int quality, bool subsample420 = true);
+
+// Decodes a JPEG file's bytes to RGBA8 (alpha 255), for clients of the stream and tests.
+// Throws std::invalid_argument when the bytes are not a JPEG TurboJPEG can read.
+ImageRgba8 decodeJpeg(std::span<const uint8_t> jpeg);
 
 }  // namespace hdof

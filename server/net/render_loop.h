@@ -1,0 +1,82 @@
+// The render thread. It owns every session's frame pipeline over the scene all sessions share
+// (one Vulkan queue, submitted to from this thread only), renders the sessions whose next frame
+// is due in turn (round robin), and blocks on a condition variable while none is: no frames and
+// no CPU for still, converged views.
+#pragma once
+
+#include "encode/jpeg_pool.h"
+#include "net/metrics.h"
+#include "net/session_state.h"
+
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+namespace hdof::net {
+
+// One frame on its way to the client: rendered here, encoded on the JPEG pool, sent by the server.
+struct StreamFrame {
+  uint64_t session = 0;
+  FramePlan plan;
+  FrameStats stats;
+  Clock::time_point renderedAt;
+  ImageRgba8 image;  // until encoded
+  EncodedJpeg jpeg;
+};
+
+class RenderLoop {
+ public:
+  using FrameSink = std::function<void(StreamFrame)>;  // on the render thread
+  using FailureSink = std::function<void(uint64_t session, const std::string& why)>;
+
+  RenderLoop(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene,
+             const Bvh& bvh, Metrics& metrics);
+  ~RenderLoop();  // stop()
+  RenderLoop(const RenderLoop&) = delete;
+  RenderLoop& operator=(const RenderLoop&) = delete;
+
+  void start(FrameSink onFrame, FailureSink onFailure);
+  // Joins the render thread and frees every pipeline.
+  void stop();
+
+  // Any thread:
+  void addSession(uint64_t session, const SessionDefaults& defaults, Viewport viewport);
+  std::optional<ProtocolError> apply(uint64_t session, const ClientMessage& message,
+                                     Clock::time_point received);
+  void frameDropped(uint64_t session, uint32_t frame);
+  // The session's pipeline is freed on the render thread, after a frame it may be rendering.
+  void removeSession(uint64_t session);
+
+ private:
+  struct Session {
+    SessionState state;
+    std::unique_ptr<FramePipeline> pipeline;  // render thread only
+    bool removed = false;
+    uint64_t coalescedReported = 0;
+  };
+  void run();
+  void freeRemovedSessions(std::unique_lock<std::mutex>& lock);
+  // The next session due now (round robin after the last one served), or the time one is due.
+  std::map<uint64_t, Session>::iterator pickDue(Clock::time_point now,
+                                                std::optional<Clock::time_point>& nextDue);
+  void render(uint64_t id, Session& session, const FramePlan& plan);
+
+  const gpu::Context& context_;
+  const Scene& scene_;
+  const GpuScene& gpuScene_;
+  const Bvh& bvh_;
+  Metrics& metrics_;
+  FrameSink onFrame_;
+  FailureSink onFailure_;
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::map<uint64_t, Session> sessions_;  // entries are erased on the render thread only
+  uint64_t lastServed_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace hdof::net

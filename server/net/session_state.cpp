@@ -1,0 +1,175 @@
+#include "net/session_state.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hdof::net {
+namespace {
+
+double msBetween(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double, std::milli>(to - from).count();
+}
+
+Clock::duration msDuration(double ms) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(ms));
+}
+
+}  // namespace
+
+Camera cameraOf(const CameraMessage& message, const Camera& base) {
+  Camera camera = base;
+  camera.position = message.position;
+  camera.forward = glm::normalize(message.target - message.position);
+  camera.up = glm::normalize(message.up - camera.forward * glm::dot(message.up, camera.forward));
+  camera.yfov = glm::radians(message.fovYDeg);
+  return camera;
+}
+
+Lens lensOf(const LensMessage& message) {
+  Lens lens;
+  lens.focalLengthMm = message.focalLengthMm;
+  lens.fNumber = message.fNumber;
+  lens.focusDistance = message.focusDistance;
+  lens.blades = message.blades;
+  lens.bladeRotation = glm::radians(message.bladeRotationDeg);
+  return lens;
+}
+
+SessionState::SessionState(const SessionDefaults& defaults, Viewport viewport)
+    : defaults_(defaults),
+      viewport_(viewport),
+      stream_(defaults.stream),
+      mode_(defaults.mode),
+      camera_(defaults.camera),
+      lens_(defaults.lens) {}
+
+bool SessionState::accumulating() const {
+  return mode_ == RenderMode::RayTrace || mode_ == RenderMode::Hybrid;
+}
+
+Viewport SessionState::renderSize() const {
+  auto scaled = [&](uint32_t side) {
+    return std::max<uint32_t>(16, uint32_t(std::lround(side * double(stream_.resolutionScale))));
+  };
+  return {std::min(scaled(viewport_.width), viewport_.width),
+          std::min(scaled(viewport_.height), viewport_.height)};
+}
+
+std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
+                                                 Clock::time_point received) {
+  auto input = [&](uint32_t seq) {
+    seq_ = seq;
+    newestInput_ = received;
+    changed_ = true;
+  };
+  if (const auto* camera = std::get_if<CameraMessage>(&message)) {
+    inputsCoalesced_ += cameraPending_;
+    cameraPending_ = true;
+    camera_ = cameraOf(*camera, defaults_.camera);
+    lastMotion_ = received;
+    input(camera->seq);
+  } else if (const auto* lens = std::get_if<LensMessage>(&message)) {
+    inputsCoalesced_ += lensPending_;
+    lensPending_ = true;
+    lens_ = lensOf(*lens);
+    pull_.reset();
+    focusAt_.reset();
+    lastMotion_ = received;
+    input(lens->seq);
+  } else if (const auto* focus = std::get_if<FocusAtMessage>(&message)) {
+    if (focus->x >= float(viewport_.width) || focus->y >= float(viewport_.height))
+      return ProtocolError{ErrorCode::OutOfRange,
+                           "focus_at pixel (" + std::to_string(int(focus->x)) + ", " +
+                               std::to_string(int(focus->y)) + ") is outside the " +
+                               std::to_string(viewport_.width) + "x" +
+                               std::to_string(viewport_.height) + " viewport",
+                           focus->x >= float(viewport_.width) ? "x" : "y"};
+    focusAt_ = *focus;
+    input(focus->seq);
+  } else if (const auto* mode = std::get_if<ModeMessage>(&message)) {
+    resetHistory_ = resetHistory_ || mode->mode != mode_;
+    mode_ = mode->mode;
+    view_ = mode->view;
+    input(mode->seq);
+  } else if (const auto* settings = std::get_if<SettingsMessage>(&message)) {
+    StreamSettings before = stream_;
+    stream_.jpegQualityMoving = settings->jpegQualityMoving.value_or(stream_.jpegQualityMoving);
+    stream_.jpegQualityStill = settings->jpegQualityStill.value_or(stream_.jpegQualityStill);
+    stream_.maxFps = settings->maxFps.value_or(stream_.maxFps);
+    stream_.raysPerPixel = settings->raysPerPixel.value_or(stream_.raysPerPixel);
+    stream_.resolutionScale = settings->resolutionScale.value_or(stream_.resolutionScale);
+    if (stream_.raysPerPixel != before.raysPerPixel ||
+        stream_.resolutionScale != before.resolutionScale)
+      changed_ = true;
+  } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
+    if (ack->frame > lastFrame_)
+      return ProtocolError{ErrorCode::OutOfRange,
+                           "frame " + std::to_string(ack->frame) + " has not been sent", "frame"};
+    while (!inFlight_.empty() && inFlight_.front() <= ack->frame) inFlight_.pop_front();
+  } else {
+    return ProtocolError{ErrorCode::NotAllowed, "this session has already said hello", "type"};
+  }
+  return std::nullopt;
+}
+
+std::optional<Clock::time_point> SessionState::nextFrameDue() const {
+  if (inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
+  Clock::time_point earliest = lastFrameStart_ + msDuration(1000.0 / stream_.maxFps);
+  bool converged = accumulated_ >= (accumulating() ? defaults_.accumulationFrames : 1u);
+  if (changed_ || pull_ || !converged) return earliest;
+  // The view has come to rest after frames at moving quality: one at still quality.
+  if (lastFrameMoving_) return std::max(earliest, lastMotion_ + msDuration(defaults_.stillAfterMs));
+  return std::nullopt;
+}
+
+FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pickFocus) {
+  if (focusAt_) {
+    std::optional<float> distance = pickFocus(camera_, viewport_, focusAt_->x, focusAt_->y);
+    if (distance && focusAt_->pullMs > 0.0f)
+      pull_ = FocusPull{lens_.focusDistance, *distance, now, focusAt_->pullMs};
+    else if (distance)
+      lens_.focusDistance = *distance;
+    lastMotion_ = now;
+    focusAt_.reset();
+  }
+  if (pull_) {
+    double t = std::clamp(msBetween(pull_->start, now) / pull_->durationMs, 0.0, 1.0);
+    double eased = t * t * (3.0 - 2.0 * t);
+    lens_.focusDistance = float(pull_->from + (pull_->to - pull_->from) * eased);
+    lastMotion_ = now;
+    changed_ = true;
+    if (t >= 1.0) pull_.reset();
+  }
+  if (changed_) accumulated_ = 0;
+  bool moving = msBetween(lastMotion_, now) < defaults_.stillAfterMs;
+
+  FramePlan plan;
+  plan.frame = ++lastFrame_;
+  Viewport size = renderSize();
+  plan.request.mode = mode_;
+  plan.request.camera = camera_;
+  plan.request.lens = lens_;
+  plan.request.settings.width = size.width;
+  plan.request.settings.height = size.height;
+  plan.request.settings.frameIndex = frameIndex_++;
+  plan.request.settings.samplesPerPixel = stream_.raysPerPixel;
+  plan.request.view = view_;
+  plan.resetHistory = resetHistory_;
+  plan.seq = seq_;
+  plan.inputReceived = newestInput_;
+  plan.jpegQuality = moving ? stream_.jpegQualityMoving : stream_.jpegQualityStill;
+  plan.accumulatedFrames = ++accumulated_;
+
+  inFlight_.push_back(plan.frame);
+  lastFrameStart_ = now;
+  lastFrameMoving_ = moving;
+  changed_ = resetHistory_ = cameraPending_ = lensPending_ = false;
+  newestInput_.reset();
+  return plan;
+}
+
+void SessionState::frameDropped(uint32_t frame) {
+  inFlight_.erase(std::remove(inFlight_.begin(), inFlight_.end(), frame), inFlight_.end());
+}
+
+}  // namespace hdof::net

@@ -1,0 +1,109 @@
+// One session's view and streaming state, without GPU or network: it applies the client's
+// messages (the newest camera and lens win), decides when the next frame is due and describes
+// what that frame renders. Frames are due on a change, while ray-traced modes accumulate, and
+// once more at still JPEG quality when the view comes to rest; never while max_unacked_frames
+// frames wait for an ack, never faster than max_fps. Otherwise the session idles.
+#pragma once
+
+#include "net/protocol.h"
+#include "render/frame_pipeline.h"
+
+#include <chrono>
+#include <deque>
+#include <functional>
+
+namespace hdof::net {
+
+using Clock = std::chrono::steady_clock;
+
+struct StreamSettings {
+  int jpegQualityMoving = 60, jpegQualityStill = 90;
+  double maxFps = 60.0;
+  uint32_t raysPerPixel = 1;
+  float resolutionScale = 1.0f;
+};
+
+struct SessionDefaults {
+  RenderMode mode = RenderMode::Hybrid;
+  StreamSettings stream;
+  uint32_t accumulationFrames = 64;  // raytrace, hybrid: frames of a still view, then idle
+  double stillAfterMs = 150.0;       // no change for this long: the view rests
+  uint32_t maxUnackedFrames = 2;
+  Camera camera;  // the starting view
+  Lens lens;
+};
+
+// One frame to render and what its message says about it.
+struct FramePlan {
+  uint32_t frame = 0;
+  FrameRequest request;
+  bool resetHistory = false;  // the mode changed: start the temporal history over
+  uint32_t seq = 0;           // the last input seq applied
+  std::optional<Clock::time_point> inputReceived;  // when the newest input it applies came in
+  int jpegQuality = 90;
+  uint32_t accumulatedFrames = 0;  // frames of this view so far, this one included
+};
+
+// The distance to focus at for a viewport pixel (the depth of the surface under it), or nothing.
+using FocusPicker = std::function<std::optional<float>(const Camera&, Viewport, float x, float y)>;
+
+class SessionState {
+ public:
+  SessionState(const SessionDefaults& defaults, Viewport viewport);
+
+  // Applies a validated message received at `received`. An error when it does not fit this
+  // session (a pixel outside the viewport, an ack of a frame never sent); the state is unchanged.
+  std::optional<ProtocolError> apply(const ClientMessage& message, Clock::time_point received);
+
+  // When the next frame may start, or nothing while the session idles (a message or an ack
+  // may change that).
+  std::optional<Clock::time_point> nextFrameDue() const;
+  // Takes what the next frame renders; the frame counts as in flight until acked or dropped.
+  FramePlan startFrame(Clock::time_point now, const FocusPicker& pickFocus);
+  // A started frame that will never be sent (its encode failed).
+  void frameDropped(uint32_t frame);
+
+  size_t framesInFlight() const { return inFlight_.size(); }
+  uint64_t inputsCoalesced() const { return inputsCoalesced_; }
+  Viewport renderSize() const;
+  const Lens& lens() const { return lens_; }
+
+ private:
+  bool accumulating() const;
+
+  SessionDefaults defaults_;
+  Viewport viewport_;
+  StreamSettings stream_;
+  RenderMode mode_;
+  DebugView view_ = DebugView::Final;
+  Camera camera_;
+  Lens lens_;
+
+  bool changed_ = true;  // something the image depends on changed since the last frame
+  bool resetHistory_ = false;
+  bool cameraPending_ = false, lensPending_ = false;  // not yet rendered: a newer one coalesces
+  std::optional<FocusAtMessage> focusAt_;
+  struct FocusPull {
+    float from = 0.0f, to = 0.0f;
+    Clock::time_point start;
+    double durationMs = 0.0;
+  };
+  std::optional<FocusPull> pull_;
+
+  uint32_t seq_ = 0;
+  std::optional<Clock::time_point> newestInput_;  // not yet in a frame
+  Clock::time_point lastMotion_{};                // the last camera, lens or focus change
+  Clock::time_point lastFrameStart_{};
+  bool lastFrameMoving_ = false;
+  uint32_t accumulated_ = 0;
+  uint32_t lastFrame_ = 0;
+  uint32_t frameIndex_ = 0;
+  std::deque<uint32_t> inFlight_;  // started, not acked
+  uint64_t inputsCoalesced_ = 0;
+};
+
+// The camera a message describes; near and far planes from `base`.
+Camera cameraOf(const CameraMessage& message, const Camera& base);
+Lens lensOf(const LensMessage& message);
+
+}  // namespace hdof::net

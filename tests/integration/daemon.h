@@ -1,0 +1,76 @@
+// Test harness for hdof serve: starts the real binary on a free port (--port 0; the port is read
+// from the URL it prints), stops it with SIGTERM, and talks to it over HTTP and WebSocket.
+#pragma once
+
+#include "net/server_messages.h"
+#include "net/ws_client.h"
+
+#include <nlohmann/json.hpp>
+
+#include <sys/types.h>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace hdof::test {
+
+using namespace std::chrono_literals;
+
+// Generous: the machine is slow and shared; nothing here is a timing assert.
+constexpr auto kTimeout = 60s;
+
+struct DaemonOptions {
+  std::vector<std::string> args;                         // after `hdof serve --port 0`
+  std::string config;                                    // JSON; written to a file for --config
+  std::vector<std::pair<std::string, std::string>> env;  // added to the environment
+};
+
+class Daemon {
+ public:
+  explicit Daemon(const DaemonOptions& options = {});
+  ~Daemon();
+  int port() const { return port_; }
+  // SIGTERM, then waits for the exit; returns the exit code (or 128 + signal).
+  int stop();
+  // What the daemon wrote to stderr so far.
+  std::string log() const;
+
+ private:
+  pid_t pid_ = -1;
+  int stdout_ = -1;
+  int port_ = 0;
+  std::string logPath_;
+  int exitCode_ = -1;
+};
+
+struct HttpResponse {
+  int status = 0;
+  std::string body;
+};
+HttpResponse httpGet(int port, const std::string& path);
+
+std::unique_ptr<net::WsClient> connectSession(int port, const std::string& origin = "");
+// hello with the viewport (and token, when given); returns the welcome, or fails the test.
+nlohmann::json helloAndWelcome(net::WsClient& client, uint32_t width, uint32_t height,
+                               const std::string& token = "");
+std::string helloMessage(uint32_t width, uint32_t height, const std::string& token = "");
+
+// The next text message as JSON, skipping frames; null after the timeout or a close.
+nlohmann::json nextText(net::WsClient& client, std::chrono::milliseconds timeout = kTimeout);
+
+struct Frame {
+  net::FrameHeader header;
+  nlohmann::json stats;
+  std::vector<uint8_t> jpeg;
+};
+// The next frame, skipping text messages; nothing after the timeout or a close.
+std::optional<Frame> nextFrame(net::WsClient& client, std::chrono::milliseconds timeout = kTimeout);
+void ack(net::WsClient& client, uint32_t frame);
+// Waits for the close and returns its code (0 when none came in time).
+int closeCode(net::WsClient& client, std::string* reason = nullptr);
+// The same over a bare socket that sends `messages` as text after the handshake: libwebsockets'
+// client reports close codes it does not know (1013) as 1002, a browser does not.
+int rawCloseCode(int port, const std::vector<std::string>& messages);
+
+}  // namespace hdof::test

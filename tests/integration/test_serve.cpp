@@ -1,0 +1,345 @@
+// hdof serve end to end: the real daemon on a free port, a real WebSocket client. Small viewports
+// and builtin:dof keep it quick; no assert depends on timing.
+#include "daemon.h"
+
+#include "encode/jpeg.h"
+#include "net/session_state.h"
+#include "render/focus_pick.h"
+#include "scene/bvh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+
+namespace hdof::test {
+namespace {
+
+constexpr uint32_t kWidth = 96, kHeight = 64;
+
+// A daemon whose sessions start in `mode` (postprocess: one cheap frame per change).
+DaemonOptions withConfig(const std::string& mode, const std::string& more = "") {
+  return {{}, R"({"mode": ")" + mode + "\"" + (more.empty() ? "" : ", " + more) + "}", {}};
+}
+
+nlohmann::json cameraMessage(const nlohmann::json& welcome, uint32_t seq, float dx) {
+  nlohmann::json camera = welcome["camera"];
+  camera["seq"] = seq;
+  camera["position"][0] = camera["position"][0].get<float>() + dx;
+  camera["target"][0] = camera["target"][0].get<float>() + dx;
+  return camera;
+}
+
+double meanAbsoluteDifference(const ImageRgba8& a, const ImageRgba8& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::abs(int(a.pixels[i]) - int(b.pixels[i]));
+  return sum / double(a.pixels.size());
+}
+
+// Frames until one that applies input `seq`, acking each.
+std::optional<Frame> frameApplying(net::WsClient& client, uint32_t seq) {
+  for (;;) {
+    std::optional<Frame> frame = nextFrame(client);
+    if (!frame) return frame;
+    ack(client, frame->header.frame);
+    if (frame->header.seq == seq) return frame;
+  }
+}
+
+TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
+  Daemon daemon(withConfig("postprocess"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  EXPECT_EQ(welcome["protocol"], 1);
+  EXPECT_FALSE(welcome["session"].get<std::string>().empty());
+  EXPECT_EQ(welcome["limits"]["max_unacked_frames"], 2);
+  EXPECT_EQ(welcome["modes"], nlohmann::json({"pinhole", "postprocess", "raytrace", "hybrid"}));
+  EXPECT_EQ(welcome["scene"]["name"], "builtin:dof");
+  EXPECT_EQ(welcome["camera"]["type"], "camera");
+  EXPECT_GT(welcome["lens"]["focus_distance"].get<double>(), 0.0);
+
+  std::optional<Frame> frame = nextFrame(*client);
+  ASSERT_TRUE(frame) << daemon.log();
+  EXPECT_EQ(frame->header.frame, 1u);
+  EXPECT_EQ(frame->header.width, kWidth);
+  EXPECT_EQ(frame->header.height, kHeight);
+  ImageRgba8 image = decodeJpeg(frame->jpeg);
+  EXPECT_EQ(image.width, kWidth);
+  EXPECT_EQ(image.height, kHeight);
+  for (const char* field : {"frame", "mode", "passes_ms", "gpu_ms", "encode_ms", "bytes"})
+    EXPECT_TRUE(frame->stats.contains(field)) << field << " in " << frame->stats.dump();
+  EXPECT_EQ(frame->stats["mode"], "postprocess");
+  EXPECT_EQ(frame->stats["bytes"], frame->jpeg.size());
+  EXPECT_TRUE(frame->stats["passes_ms"].contains("gbuffer"));
+}
+
+TEST(Serve, CameraMoveGivesADifferentFrameWithItsSeq) {
+  Daemon daemon(withConfig("postprocess"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  std::optional<Frame> first = nextFrame(*client);
+  ASSERT_TRUE(first) << daemon.log();
+  ack(*client, first->header.frame);
+
+  client->sendText(cameraMessage(welcome, 7, 0.5f).dump());
+  std::optional<Frame> moved = frameApplying(*client, 7);
+  ASSERT_TRUE(moved) << daemon.log();
+  EXPECT_TRUE(moved->stats.contains("input_to_send_ms")) << moved->stats.dump();
+  EXPECT_GT(meanAbsoluteDifference(decodeJpeg(first->jpeg), decodeJpeg(moved->jpeg)), 1.0);
+}
+
+TEST(Serve, FocusAtFocusesOnTheDepthUnderThePixel) {
+  Daemon daemon(withConfig("postprocess"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  nlohmann::json camera = cameraMessage(welcome, 1, 0.0f);
+  client->sendText(camera.dump());
+
+  // Two pixels whose surfaces lie at clearly different depths, found as the daemon would.
+  Scene scene = loadScene("builtin:dof");
+  Bvh bvh = buildBvh(scene.vertices, scene.indices);
+  net::CameraMessage message;
+  for (int i = 0; i < 3; ++i) {
+    message.position[i] = camera["position"][i];
+    message.target[i] = camera["target"][i];
+    message.up[i] = camera["up"][i];
+  }
+  message.fovYDeg = camera["fov_y_deg"];
+  Camera view = net::cameraOf(message, Camera::fromScene(scene.cameras.front()));
+  std::vector<std::pair<glm::vec2, float>> picks;
+  for (uint32_t y = 4; y < kHeight; y += 8)
+    for (uint32_t x = 4; x < kWidth; x += 8)
+      if (auto depth = depthUnderPixel(bvh, view, kWidth, kHeight, float(x), float(y)))
+        if (picks.empty() || std::abs(*depth - picks.front().second) > 0.3f * picks.front().second)
+          if (picks.size() < 2) picks.push_back({glm::vec2(x, y), *depth});
+  ASSERT_EQ(picks.size(), 2u);
+
+  uint32_t seq = 2;
+  for (const auto& [pixel, depth] : picks) {
+    client->sendText(
+        nlohmann::json{{"type", "focus_at"}, {"seq", seq}, {"x", pixel.x}, {"y", pixel.y}}.dump());
+    std::optional<Frame> frame = frameApplying(*client, seq++);
+    ASSERT_TRUE(frame) << daemon.log();
+    EXPECT_NEAR(frame->stats["focus_distance"].get<double>(), depth, 1e-3 * depth)
+        << "pixel " << pixel.x << "," << pixel.y;
+  }
+}
+
+TEST(Serve, AcksGateFrames) {
+  // raytrace keeps rendering while it accumulates: without acks only 2 frames may come.
+  Daemon daemon(withConfig("raytrace", R"("accumulation_frames": 1000)"));
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, 64, 48);
+  ASSERT_TRUE(nextFrame(*client)) << daemon.log();
+  std::optional<Frame> second = nextFrame(*client);
+  ASSERT_TRUE(second) << daemon.log();
+  EXPECT_FALSE(nextFrame(*client, 3s)) << "a third frame without an ack";
+  ack(*client, second->header.frame);
+  std::optional<Frame> third = nextFrame(*client);
+  ASSERT_TRUE(third) << daemon.log();
+  EXPECT_EQ(third->header.frame, 3u);
+  EXPECT_GT(third->stats["accumulated_frames"].get<int>(), 2);
+}
+
+TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
+  Daemon daemon(
+      withConfig("postprocess",
+                 R"("jpeg_quality_moving": 30, "jpeg_quality_still": 95, "still_after_ms": 200)"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  std::optional<Frame> first = nextFrame(*client);
+  ASSERT_TRUE(first) << daemon.log();
+  ack(*client, first->header.frame);
+  EXPECT_EQ(first->stats["jpeg_quality"], 95);
+
+  client->sendText(cameraMessage(welcome, 1, 0.2f).dump());
+  std::optional<Frame> moving = frameApplying(*client, 1);
+  ASSERT_TRUE(moving) << daemon.log();
+  EXPECT_EQ(moving->stats["jpeg_quality"], 30);
+  std::optional<Frame> still = nextFrame(*client);
+  ASSERT_TRUE(still) << daemon.log();
+  ack(*client, still->header.frame);
+  EXPECT_EQ(still->stats["jpeg_quality"], 95);
+  EXPECT_EQ(still->header.seq, 1u);
+  EXPECT_FALSE(nextFrame(*client, 1500ms)) << "frames for a still, converged view";
+}
+
+TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
+  Daemon daemon(withConfig("postprocess", R"("max_rays_per_pixel": 8)"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  nlohmann::json camera = cameraMessage(welcome, 1, 0.0f);
+  auto withField = [&](const std::string& field, nlohmann::json value) {
+    nlohmann::json message = camera;
+    message[field] = value;
+    return message.dump();
+  };
+  struct Case {
+    std::string message, code, field;
+  } cases[] = {
+      {"not json", "bad_json", ""},
+      {"[1, 2]", "bad_json", ""},
+      {R"({"type": "warp"})", "unknown_type", "type"},
+      {R"({"seq": 1})", "bad_field", "type"},
+      {withField("position", "here"), "bad_field", "position"},
+      {withField("fov_y_deg", 500), "out_of_range", "fov_y_deg"},
+      {withField("fov_y_deg", 1e300), "out_of_range", "fov_y_deg"},
+      // JSON has no infinity: a number too large for a double is not JSON the parser takes.
+      {R"({"type":"camera","seq":1,"position":[0,0,1e999],"target":[0,0,0],"fov_y_deg":40})",
+       "bad_json", ""},
+      {withField("zoom", 2), "bad_field", "zoom"},
+      {withField("seq", -1), "out_of_range", "seq"},
+      {withField("seq", 1.5), "bad_field", "seq"},
+      {R"({"type":"lens","seq":1,"focal_length_mm":50,"f_number":-1,"focus_distance":2})",
+       "out_of_range", "f_number"},
+      {R"({"type":"focus_at","seq":1,"x":5000,"y":1})", "out_of_range", "x"},
+      {R"({"type":"mode","seq":1,"mode":"blurry"})", "out_of_range", "mode"},
+      {R"({"type":"settings","rays_per_pixel":9})", "out_of_range", "rays_per_pixel"},
+      {R"({"type":"ack","frame":99999})", "out_of_range", "frame"},
+      {helloMessage(kWidth, kHeight), "not_allowed", "type"},
+  };
+  for (const Case& c : cases) {
+    client->sendText(c.message);
+    nlohmann::json error = nextText(*client);
+    ASSERT_EQ(error.value("type", ""), "error") << c.message << "\n" << daemon.log();
+    EXPECT_EQ(error["code"], c.code) << c.message << ": " << error.dump();
+    EXPECT_EQ(error.value("field", ""), c.field) << c.message << ": " << error.dump();
+    EXPECT_FALSE(error["message"].get<std::string>().empty());
+  }
+  client->sendText(cameraMessage(welcome, 9, 0.1f).dump());
+  EXPECT_TRUE(frameApplying(*client, 9)) << daemon.log();
+}
+
+TEST(Serve, ProtocolViolationsCloseWithTheirCode) {
+  Daemon daemon(withConfig("postprocess", R"("max_message_bytes": 1024)"));
+  {
+    auto client = connectSession(daemon.port());
+    client->sendText(R"({"type":"ack","frame":1})");
+    EXPECT_EQ(closeCode(*client), 1002) << "no hello first";
+  }
+  {
+    auto client = connectSession(daemon.port());
+    helloAndWelcome(*client, kWidth, kHeight);
+    client->sendBinary({1, 2, 3});
+    EXPECT_EQ(closeCode(*client), 1002) << "binary from the client";
+  }
+  {
+    auto client = connectSession(daemon.port());
+    helloAndWelcome(*client, kWidth, kHeight);
+    client->sendText(R"({"type":"settings","pad":")" + std::string(4000, 'x') + "\"}");
+    std::string reason;
+    EXPECT_EQ(closeCode(*client, &reason), 1009) << "oversize";
+    EXPECT_NE(reason.find("1024"), std::string::npos) << reason;
+  }
+  // The daemon is still there for the next client.
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight);
+  EXPECT_TRUE(nextFrame(*client)) << daemon.log();
+}
+
+TEST(Serve, TokenIsEnforced) {
+  Daemon daemon({{"--token", "s3cret"}, "", {}});
+  for (std::string token : {"", "wrong"}) {
+    auto client = connectSession(daemon.port());
+    client->sendText(helloMessage(kWidth, kHeight, token));
+    nlohmann::json error = nextText(*client);
+    EXPECT_EQ(error.value("code", ""), "not_allowed") << error.dump();
+    EXPECT_EQ(closeCode(*client), 1008) << "token '" << token << "'";
+  }
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight, "s3cret");
+}
+
+TEST(Serve, TokenFromTheEnvironment) {
+  Daemon daemon({{}, "", {{"HDOF_TOKEN", "from-env"}}});
+  auto refused = connectSession(daemon.port());
+  refused->sendText(helloMessage(kWidth, kHeight));
+  EXPECT_EQ(closeCode(*refused), 1008);
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight, "from-env");
+}
+
+TEST(Serve, OriginNotAllowedCloses1008) {
+  Daemon daemon({{"--allow-origin", "http://good.example"}, "", {}});
+  auto evil = connectSession(daemon.port(), "evil.example");  // sent as http://evil.example
+  EXPECT_EQ(closeCode(*evil), 1008);
+  auto good = connectSession(daemon.port(), "good.example");
+  helloAndWelcome(*good, kWidth, kHeight);
+}
+
+TEST(Serve, TooManySessionsGetBusyAnd1013) {
+  Daemon daemon(withConfig("postprocess", R"("max_sessions": 1)"));
+  auto first = connectSession(daemon.port());
+  helloAndWelcome(*first, kWidth, kHeight);
+  auto second = connectSession(daemon.port());
+  second->sendText(helloMessage(kWidth, kHeight));
+  EXPECT_EQ(nextText(*second).value("code", ""), "busy");
+  EXPECT_EQ(rawCloseCode(daemon.port(), {helloMessage(kWidth, kHeight)}), 1013);
+  first->close();
+  closeCode(*first);
+  // The daemon counts the first session out once it has seen the close: try a few times.
+  bool welcomed = false;
+  for (int attempt = 0; attempt < 50 && !welcomed; ++attempt) {
+    auto third = connectSession(daemon.port());
+    third->sendText(helloMessage(kWidth, kHeight));
+    welcomed = nextText(*third).value("type", "") == "welcome";
+    if (!welcomed) std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_TRUE(welcomed) << daemon.log();
+}
+
+TEST(Serve, HealthzMetricsAndTheWebRoot) {
+  Daemon daemon(withConfig("postprocess"));
+  HttpResponse health = httpGet(daemon.port(), "/healthz");
+  EXPECT_EQ(health.status, 200);
+  nlohmann::json body = nlohmann::json::parse(health.body, nullptr, false);
+  EXPECT_EQ(body.value("status", ""), "ok") << health.body;
+  EXPECT_FALSE(body.value("device", "").empty()) << health.body;
+  EXPECT_NE(httpGet(daemon.port(), "/").body.find("hdof serve is up"), std::string::npos);
+  EXPECT_EQ(httpGet(daemon.port(), "/no-such-file").status, 404);
+
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight);
+  ASSERT_TRUE(nextFrame(*client)) << daemon.log();
+  client->sendText("{");
+  nextText(*client);
+  std::string metrics = httpGet(daemon.port(), "/metrics").body;
+  for (const char* line :
+       {"hdof_sessions 1", "hdof_frames_sent_total 1", "hdof_errors_total{code=\"bad_json\"} 1",
+        "hdof_pass_seconds_bucket{pass=\"gbuffer\",le=\"+Inf\"} 1", "hdof_encode_seconds_count 1",
+        "# TYPE hdof_frames_dropped_total counter"})
+    EXPECT_NE(metrics.find(line), std::string::npos) << line << " in\n" << metrics;
+}
+
+TEST(Serve, AVanishingClientFreesItsSession) {
+  Daemon daemon(withConfig("raytrace", R"("accumulation_frames": 1000)"));
+  {
+    auto client = connectSession(daemon.port());
+    helloAndWelcome(*client, kWidth, kHeight);
+    ASSERT_TRUE(nextFrame(*client)) << daemon.log();
+  }  // gone mid-stream, frames still rendering
+  bool freed = false;
+  for (int i = 0; i < 200 && !freed; ++i) {
+    freed = httpGet(daemon.port(), "/metrics").body.find("hdof_sessions 0") != std::string::npos;
+    if (!freed) std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_TRUE(freed) << daemon.log();
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight);
+  EXPECT_TRUE(nextFrame(*client)) << daemon.log();
+}
+
+TEST(Serve, ShutdownClosesSessionsWithGoingAway) {
+  Daemon daemon(withConfig("postprocess"));
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, kWidth, kHeight);
+  ASSERT_TRUE(nextFrame(*client)) << daemon.log();
+  EXPECT_EQ(daemon.stop(), 0) << daemon.log();
+  EXPECT_EQ(closeCode(*client), 1001);
+  std::string log = daemon.log();
+  EXPECT_NE(log.find("event=session_end"), std::string::npos) << log;
+  EXPECT_NE(log.find("event=stopped"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace hdof::test

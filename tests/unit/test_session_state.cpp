@@ -1,0 +1,166 @@
+// A session's scheduling without GPU or network: frames on change, while accumulating and once
+// at still quality when the view rests; never more than max_unacked_frames in flight; the newest
+// camera wins; focus_at and the focus pull.
+#include "net/session_state.h"
+
+#include <gtest/gtest.h>
+
+namespace hdof::net {
+namespace {
+
+using namespace std::chrono_literals;
+
+const Clock::time_point kStart = Clock::now();
+
+SessionDefaults defaults(RenderMode mode) {
+  SessionDefaults d;
+  d.mode = mode;
+  d.accumulationFrames = 4;
+  d.stillAfterMs = 100.0;
+  d.stream.jpegQualityMoving = 50;
+  d.stream.jpegQualityStill = 90;
+  d.stream.maxFps = 1000.0;
+  return d;
+}
+
+CameraMessage camera(uint32_t seq, float x) {
+  CameraMessage c;
+  c.seq = seq;
+  c.position = {x, 0.0f, 5.0f};
+  c.target = {x, 0.0f, 0.0f};
+  return c;
+}
+
+std::optional<float> noFocus(const Camera&, Viewport, float, float) { return std::nullopt; }
+
+bool dueAt(const SessionState& s, Clock::time_point t) {
+  auto due = s.nextFrameDue();
+  return due && *due <= t;
+}
+
+TEST(SessionState, OneFrameThenIdleForAStillRasterView) {
+  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  ASSERT_TRUE(dueAt(s, kStart));
+  FramePlan first = s.startFrame(kStart, noFocus);
+  EXPECT_EQ(first.frame, 1u);
+  EXPECT_EQ(first.jpegQuality, 90);
+  EXPECT_FALSE(first.inputReceived);
+  EXPECT_EQ(first.request.settings.width, 64u);
+  ASSERT_FALSE(s.apply(AckMessage{1}, kStart));
+  EXPECT_FALSE(s.nextFrameDue()) << "idle: nothing changed";
+}
+
+TEST(SessionState, NewestCameraWinsAndCarriesItsSeq) {
+  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  s.startFrame(kStart, noFocus);
+  s.apply(AckMessage{1}, kStart);
+  s.apply(camera(1, 1.0f), kStart + 1ms);
+  s.apply(camera(2, 2.0f), kStart + 2ms);
+  EXPECT_EQ(s.inputsCoalesced(), 1u);
+  FramePlan plan = s.startFrame(kStart + 3ms, noFocus);
+  EXPECT_EQ(plan.seq, 2u);
+  EXPECT_EQ(plan.request.camera.position.x, 2.0f);
+  EXPECT_EQ(plan.inputReceived, kStart + 2ms);
+  EXPECT_EQ(plan.jpegQuality, 50) << "moving";
+}
+
+TEST(SessionState, AtMostMaxUnackedFramesInFlight) {
+  SessionState s(defaults(RenderMode::RayTrace), {64, 48});
+  s.startFrame(kStart, noFocus);
+  s.startFrame(kStart + 1ms, noFocus);
+  EXPECT_EQ(s.framesInFlight(), 2u);
+  EXPECT_FALSE(s.nextFrameDue()) << "two frames without an ack";
+  s.apply(camera(1, 1.0f), kStart + 2ms);
+  EXPECT_FALSE(s.nextFrameDue()) << "a change does not lift the limit";
+  s.apply(AckMessage{1}, kStart + 3ms);
+  EXPECT_TRUE(dueAt(s, kStart + 3ms));
+  ProtocolError error = *s.apply(AckMessage{9}, kStart);
+  EXPECT_EQ(error.field, "frame");
+  s.frameDropped(2);
+  EXPECT_EQ(s.framesInFlight(), 0u);
+}
+
+TEST(SessionState, RayTracedModesAccumulateThenIdle) {
+  SessionState s(defaults(RenderMode::RayTrace), {64, 48});
+  Clock::time_point t = kStart;
+  for (uint32_t i = 1; i <= 4; ++i) {
+    ASSERT_TRUE(dueAt(s, t)) << i;
+    FramePlan plan = s.startFrame(t, noFocus);
+    EXPECT_EQ(plan.accumulatedFrames, i);
+    s.apply(AckMessage{plan.frame}, t);
+    t += 5ms;
+  }
+  EXPECT_FALSE(s.nextFrameDue()) << "converged";
+  s.apply(camera(1, 1.0f), t);
+  EXPECT_EQ(s.startFrame(t, noFocus).accumulatedFrames, 1u) << "a change starts over";
+}
+
+TEST(SessionState, AStillQualityFrameOnceTheViewRests) {
+  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  s.startFrame(kStart, noFocus);
+  s.apply(AckMessage{1}, kStart);
+  s.apply(camera(1, 1.0f), kStart + 10ms);
+  FramePlan moving = s.startFrame(kStart + 11ms, noFocus);
+  EXPECT_EQ(moving.jpegQuality, 50);
+  s.apply(AckMessage{moving.frame}, kStart + 12ms);
+  auto due = s.nextFrameDue();
+  ASSERT_TRUE(due);
+  EXPECT_EQ(*due, kStart + 110ms) << "still_after_ms after the last change";
+  FramePlan still = s.startFrame(*due, noFocus);
+  EXPECT_EQ(still.jpegQuality, 90);
+  EXPECT_EQ(still.seq, 1u);
+  EXPECT_FALSE(still.inputReceived);
+  s.apply(AckMessage{still.frame}, *due);
+  EXPECT_FALSE(s.nextFrameDue());
+}
+
+TEST(SessionState, MaxFpsSpacesFrames) {
+  SessionDefaults d = defaults(RenderMode::RayTrace);
+  d.stream.maxFps = 10.0;
+  SessionState s(d, {64, 48});
+  s.startFrame(kStart, noFocus);
+  EXPECT_EQ(*s.nextFrameDue(), kStart + 100ms);
+}
+
+TEST(SessionState, FocusAtSetsTheFocusAndPullsSmoothly) {
+  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  Viewport seen;
+  auto pick = [&](const Camera&, Viewport viewport, float x, float y) -> std::optional<float> {
+    seen = viewport;
+    return x + y;
+  };
+  EXPECT_EQ(s.apply(FocusAtMessage{1, 64.0f, 0.0f}, kStart)->field, "x");
+  EXPECT_EQ(s.apply(FocusAtMessage{1, 0.0f, 48.0f}, kStart)->field, "y");
+  ASSERT_FALSE(s.apply(FocusAtMessage{1, 3.0f, 4.0f}, kStart));
+  EXPECT_EQ(s.startFrame(kStart, pick).request.lens.focusDistance, 7.0f);
+  EXPECT_EQ(seen.width, 64u);
+  s.apply(AckMessage{1}, kStart);
+
+  ASSERT_FALSE(s.apply(FocusAtMessage{2, 10.0f, 7.0f, 1000.0f}, kStart + 1ms));
+  EXPECT_EQ(s.startFrame(kStart + 1ms, pick).request.lens.focusDistance, 7.0f) << "pull starts";
+  s.apply(AckMessage{2}, kStart);
+  ASSERT_TRUE(s.nextFrameDue()) << "frames while pulling";
+  float middle = s.startFrame(kStart + 501ms, pick).request.lens.focusDistance;
+  EXPECT_NEAR(middle, 12.0f, 1e-3f);
+  s.apply(AckMessage{3}, kStart);
+  EXPECT_EQ(s.startFrame(kStart + 2s, pick).request.lens.focusDistance, 17.0f);
+}
+
+TEST(SessionState, ResolutionScaleAndModeChange) {
+  SessionState s(defaults(RenderMode::PostProcess), {200, 100});
+  SettingsMessage settings;
+  settings.resolutionScale = 0.5f;
+  s.apply(settings, kStart);
+  EXPECT_EQ(s.renderSize().width, 100u);
+  EXPECT_EQ(s.renderSize().height, 50u);
+  s.apply(ModeMessage{4, RenderMode::Hybrid, DebugView::Mask}, kStart);
+  FramePlan plan = s.startFrame(kStart, noFocus);
+  EXPECT_TRUE(plan.resetHistory);
+  EXPECT_EQ(plan.request.mode, RenderMode::Hybrid);
+  EXPECT_EQ(plan.request.view, DebugView::Mask);
+  EXPECT_EQ(plan.request.settings.width, 100u);
+  EXPECT_EQ(plan.seq, 4u);
+}
+
+}  // namespace
+}  // namespace hdof::net
