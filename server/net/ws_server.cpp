@@ -426,12 +426,7 @@ int WsServer::writeNext(lws* wsi, Connection& c) {
   stats.mode = modeName(request.mode);
   stats.passesMs = frame.stats.passMs;
   stats.gpuMs = frame.stats.gpuMs;
-  uint64_t pixels = uint64_t(request.settings.width) * request.settings.height;
-  uint64_t rays = pixels * request.settings.samplesPerPixel;
-  stats.raysShot = request.mode == RenderMode::RayTrace ? rays
-                   : request.mode == RenderMode::Hybrid
-                       ? uint64_t(double(rays) * frame.stats.maskCoverage)
-                       : 0;
+  stats.raysShot = frame.stats.raysShot;
   stats.maskCoverage = frame.stats.maskCoverage;
   stats.encodeMs = frame.jpeg.encodeMs;
   stats.queueWaitMs = std::max(0.0, msBetween(frame.renderedAt, now) - frame.jpeg.encodeMs);
