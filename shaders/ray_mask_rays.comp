@@ -1,7 +1,9 @@
 // Ray mask, spread along columns and ray counts: a pixel is within an edge's disc when a pixel
 // of its column reaches it (see ray_mask_spread.comp). Rays where an edge needs them or where
-// the ray-traced output is noisy: as many as the strongest edge or the variance asks for, at
-// least 1 and at most the frame's samples per pixel.
+// the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many
+// as the strongest edge asks for while the pixel is new to the mask, then as many as the
+// variance of its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for
+// their history to go on).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -35,7 +37,10 @@ void main() {
     }
   }
   float noise = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).r;
-  float need = max(strongest, saturate(noise / kRayMaskVarianceFull));
+  // New to the mask (no variance yet, or too little history for one): as the edge asks; then
+  // as the variance of the pixel's rays asks.
+  bool settled = noise > 0.0 && noise < kRayMaskVarianceNew;
+  float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
   uint samples = clamp(frame.image.w, 1u, 255u);  // what r8ui holds
   uint count = 0u;
   if (nearEdge || noise >= kRayMaskVarianceOn)

@@ -37,8 +37,8 @@ HDOF_CONST float kRayMaskNormalHigh = 0.5;
 HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a
 // pixel gets rays without an edge, and at which it gets the full sample count.
-HDOF_CONST float kRayMaskVarianceOn = 0.01;
-HDOF_CONST float kRayMaskVarianceFull = 0.1;
+HDOF_CONST float kRayMaskVarianceOn = 0.001;
+HDOF_CONST float kRayMaskVarianceFull = 0.005;
 // What the variance reports for a pixel with too little history to estimate it (full rays).
 HDOF_CONST float kRayMaskVarianceNew = 1.0;
 
