@@ -51,6 +51,7 @@ void expectUsageError(const std::string& args, const std::string& expected) {
 }
 
 const std::string kOut = "--out " + (tempDir() / "x.png").string();
+const std::string kExamplePath = std::string(HDOF_SOURCE_DIR) + "/docs/examples/dolly.json";
 
 TEST(Cli, BadRenderInputIsAOneLineErrorWithExitCode2) {
   expectUsageError("render --scene /no/such/scene.gltf " + kOut, "/no/such/scene.gltf");
@@ -70,6 +71,44 @@ TEST(Cli, BadRenderInputIsAOneLineErrorWithExitCode2) {
   expectUsageError("render --device no-such-gpu " + kOut, "no-such-gpu");
   expectUsageError("render --view mask " + kOut, "--mode hybrid");
   expectUsageError("render --mode hybrid --view sideways " + kOut, "sideways");
+  expectUsageError("render --full-mask " + kOut, "--mode hybrid");
+}
+
+TEST(Cli, BadQualityInputIsAOneLineError) {
+  expectUsageError("quality --modes pinhole,blurry", "blurry");
+  expectUsageError("quality --modes reference", "reference");
+  expectUsageError("quality --rays 0", "--rays");
+  expectUsageError("quality --reference /no/such/reference.png", "/no/such/reference.png");
+  expectUsageError("quality --camera-path /no/such/path.json", "/no/such/path.json");
+  expectUsageError("quality --camera-path " + kExamplePath + " --frames 2", "--frames");
+}
+
+// A still measured twice, the second time against the first run's reference; then in motion.
+TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
+  auto out = tempDir() / "quality";
+  std::string common =
+      "quality --size 64x36 --f-number 1.4 --reference-spp 16 --out " + out.string();
+  Result first = runHdof(common + " --modes pinhole");
+  ASSERT_EQ(first.exitCode, 0) << first.stderrText;
+  EXPECT_NE(first.stdoutText.find("mode=pinhole psnr_db="), std::string::npos) << first.stdoutText;
+  Result again =
+      runHdof(common + " --modes postprocess --reference " + (out / "reference.png").string());
+  ASSERT_EQ(again.exitCode, 0) << again.stderrText;
+  EXPECT_NE(again.stdoutText.find("mode=postprocess psnr_db="), std::string::npos)
+      << again.stdoutText;
+  Result wrongSize = runHdof("quality --size 32x18 --modes pinhole --reference " +
+                             (out / "reference.png").string());
+  EXPECT_EQ(wrongSize.exitCode, 2) << wrongSize.stderrText;
+
+  Result motion =
+      runHdof(common + " --modes postprocess,hybrid --frames 4 --camera-path " + kExamplePath);
+  ASSERT_EQ(motion.exitCode, 0) << motion.stderrText;
+  EXPECT_NE(motion.stdoutText.find("mode=postprocess"), std::string::npos) << motion.stdoutText;
+  EXPECT_NE(motion.stdoutText.find("mode=hybrid"), std::string::npos) << motion.stdoutText;
+  for (int frame : {0, 1, 2, 3})
+    EXPECT_TRUE(
+        std::filesystem::exists(out / ("motion-reference-" + std::to_string(frame) + ".png")))
+        << frame;
 }
 
 TEST(Cli, CorruptSceneFileIsAOneLineError) {
