@@ -32,8 +32,6 @@ const float kTrustedRays = 32.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // How far inside the traced region the pixel lies: the share of eight pixels on a circle of
 // radius kSeamFade around it that the mask traced, from 0.5 on the edge to 1 well inside.
 float tracedShare(ivec2 pixel) {

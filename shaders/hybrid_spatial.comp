@@ -29,8 +29,6 @@ const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself i
 const float kVarianceMin = 1e-4, kVarianceMax = 1.0;
 const float kLuminanceSigmas = 2.0;
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // The diameter of the pixel's blur: its layers' CoCs weighted by its hit ratio.
 float blendedCoc(ivec2 pixel, float ratio) {
   vec2 coc = texelFetch(layerCoc, pixel, 0).xy;

@@ -45,8 +45,6 @@ const float kStill = 0.05, kMoving = 0.5;
 // The moving average's floor in motion: a shorter window, that lags less.
 const float kMovingMinBlend = 0.4;
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.image.xy))); }
 
 // The far world position this pixel sees through the near layer: its own, else the weighted
