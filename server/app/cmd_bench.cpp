@@ -106,6 +106,18 @@ int runBench(std::span<const std::string> args) {
     std::snprintf(text, sizeof text, " %s=%.2f", pass.c_str(), median(times));
     hybridPassesText += text;
   }
+  auto passMedian = [&](const std::string& pass) {
+    for (const auto& [name, times] : passMs)
+      if (name == pass) return median(times);
+    return 0.0;
+  };
+  // How the selective trace scales: the same pass with every pixel listed.
+  double maskedTraceMs = passMedian("hybrid_trace");
+  request.traceEverywhere = true;
+  frameMs(RenderMode::Hybrid);
+  request.traceEverywhere = false;
+  double fullTraceMs = passMedian("hybrid_trace");
+  double fullRays = median(raysShot);
   double rayTraceFrameMs = frameMs(RenderMode::RayTrace);
 
   request.settings.samplesPerPixel = 1;
@@ -121,12 +133,13 @@ int runBench(std::span<const std::string> args) {
         "\"reference_ms\":%.3f,\"reference_mrays_per_s\":%.3f,\"frames\":%u,"
         "\"comparison_rays_per_pixel\":%u,\"postprocess_frame_ms\":%.3f,"
         "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f,"
-        "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s}}\n",
+        "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
+        "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
-        maskCoverage, hybridRays, hybridPassesJson.c_str());
+        maskCoverage, hybridRays, hybridPassesJson.c_str(), fullTraceMs, fullRays);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -150,6 +163,11 @@ int runBench(std::span<const std::string> args) {
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));
   std::printf("hybrid_passes_ms:%s (medians)\n", hybridPassesText.c_str());
+  std::printf(
+      "hybrid_trace: %.1f ms for the mask's rays (%.2f Mrays/s), %.1f ms with every pixel "
+      "traced (%.0f rays, %.2f Mrays/s): the mask's share of the work %.2f\n",
+      maskedTraceMs, hybridRays / (maskedTraceMs * 1e3), fullTraceMs, fullRays,
+      fullRays / (fullTraceMs * 1e3), maskedTraceMs / fullTraceMs);
   return 0;
 }
 
