@@ -295,7 +295,8 @@ TEST(Serve, HealthzMetricsAndTheWebRoot) {
   nlohmann::json body = nlohmann::json::parse(health.body, nullptr, false);
   EXPECT_EQ(body.value("status", ""), "ok") << health.body;
   EXPECT_FALSE(body.value("device", "").empty()) << health.body;
-  EXPECT_NE(httpGet(daemon.port(), "/").body.find("hdof serve is up"), std::string::npos);
+  EXPECT_NE(httpGet(daemon.port(), "/").body.find("src=\"app.js\""), std::string::npos);
+  EXPECT_EQ(httpGet(daemon.port(), "/app.js").status, 200);
   EXPECT_EQ(httpGet(daemon.port(), "/no-such-file").status, 404);
 
   auto client = connectSession(daemon.port());

@@ -1,0 +1,88 @@
+// The hdof.v1 wire protocol (protocol/README.md): client messages and the binary frame parser.
+
+export const SUBPROTOCOL = 'hdof.v1';
+export const PROTOCOL_VERSION = 1;
+export const FRAME_MAGIC = 0x464f4448; // "HDOF"
+export const FRAME_HEADER_BYTES = 32;
+export const FORMAT_JPEG = 1;
+export const DEBUG_VIEWS = ['final', 'mask', 'hitratio', 'coc', 'near', 'far'];
+
+export const CLOSE = {
+  GOING_AWAY: 1001,
+  PROTOCOL_ERROR: 1002,
+  POLICY: 1008, // missing or wrong token, origin not allowed
+  TOO_BIG: 1009,
+  RENDER_FAILED: 1011,
+  BUSY: 1013,
+};
+
+export function sessionUrl(location) {
+  const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
+  return `${scheme}//${location.host}/session`;
+}
+
+export function hello(viewport, token) {
+  const message = { type: 'hello', protocol: PROTOCOL_VERSION, viewport };
+  if (token) message.token = token;
+  return message;
+}
+
+export function camera(seq, view) {
+  return {
+    type: 'camera', seq,
+    position: view.position, target: view.target, up: view.up, fov_y_deg: view.fov_y_deg,
+  };
+}
+
+export function lens(seq, l) {
+  return {
+    type: 'lens', seq,
+    focal_length_mm: l.focal_length_mm, f_number: l.f_number,
+    focus_distance: l.focus_distance, blades: l.blades,
+    blade_rotation_deg: l.blade_rotation_deg ?? 0,
+  };
+}
+
+export function focusAt(seq, x, y, pullMs) {
+  return { type: 'focus_at', seq, x, y, pull_ms: pullMs };
+}
+
+export function mode(seq, name, view) {
+  const message = { type: 'mode', seq, mode: name };
+  // Debug views other than the final image exist only for the hybrid.
+  if (name === 'hybrid' && view) message.view = view;
+  return message;
+}
+
+export function settings(fields) {
+  return { type: 'settings', ...fields };
+}
+
+export function ack(frame) {
+  return { type: 'ack', frame };
+}
+
+// One binary frame message: {frame, width, height, seq, stats, jpeg (a Blob)}, or throws.
+export function parseFrame(buffer) {
+  if (buffer.byteLength < FRAME_HEADER_BYTES) throw new Error('frame shorter than its header');
+  const header = new DataView(buffer, 0, FRAME_HEADER_BYTES);
+  const u32 = (offset) => header.getUint32(offset, true);
+  if (u32(0) !== FRAME_MAGIC) throw new Error('frame without the HDOF magic');
+  const version = header.getUint16(4, true);
+  const format = header.getUint16(6, true);
+  if (version !== PROTOCOL_VERSION || format !== FORMAT_JPEG)
+    throw new Error(`frame version ${version} format ${format} not understood`);
+  const statsBytes = u32(24);
+  if (statsBytes > buffer.byteLength - FRAME_HEADER_BYTES) throw new Error('frame stats overrun');
+  const statsText = new TextDecoder().decode(
+    new Uint8Array(buffer, FRAME_HEADER_BYTES, statsBytes));
+  return {
+    frame: u32(8),
+    width: u32(12),
+    height: u32(16),
+    seq: u32(20),
+    stats: JSON.parse(statsText),
+    jpeg: new Blob([new Uint8Array(buffer, FRAME_HEADER_BYTES + statsBytes)],
+      { type: 'image/jpeg' }),
+  };
+}

@@ -1,0 +1,46 @@
+// The view in the URL's hash, so that a link shares it:
+//   #camera=px,py,pz,tx,ty,tz,fov&lens=focal_mm,f_number,focus_m,blades&mode=M&view=V&compare=M
+
+const round = (v) => Number(v.toPrecision(5));
+const numbers = (text, count) => {
+  const values = (text ?? '').split(',').map(Number);
+  return values.length === count && values.every(Number.isFinite) ? values : null;
+};
+
+export function readUrlState(hash = location.hash) {
+  const params = new URLSearchParams(hash.replace(/^#/, ''));
+  const state = {};
+  const c = numbers(params.get('camera'), 7);
+  if (c) state.camera = { position: c.slice(0, 3), target: c.slice(3, 6), up: [0, 1, 0], fov_y_deg: c[6] };
+  const l = numbers(params.get('lens'), 4);
+  if (l) state.lens = { focal_length_mm: l[0], f_number: l[1], focus_distance: l[2], blades: l[3] };
+  for (const key of ['mode', 'view', 'compare']) if (params.get(key)) state[key] = params.get(key);
+  return state;
+}
+
+export function urlHash({ camera, lens, mode, view, compare }) {
+  const params = new URLSearchParams();
+  if (camera)
+    params.set('camera', [...camera.position, ...camera.target, camera.fov_y_deg].map(round).join(','));
+  if (lens)
+    params.set('lens', [lens.focal_length_mm, lens.f_number, lens.focus_distance, lens.blades ?? 0]
+      .map(round).join(','));
+  if (mode) params.set('mode', mode);
+  if (view && view !== 'final') params.set('view', view);
+  if (compare) params.set('compare', compare);
+  return '#' + params.toString().replaceAll('%2C', ',');
+}
+
+// Replaces the hash at most every delayMs (history.replaceState: no history entry per drag step).
+export function urlWriter(delayMs = 250) {
+  let timer = 0;
+  let latest = null;
+  return (state) => {
+    latest = state;
+    if (timer) return;
+    timer = setTimeout(() => {
+      timer = 0;
+      history.replaceState(null, '', urlHash(latest));
+    }, delayMs);
+  };
+}

@@ -1,0 +1,193 @@
+// The browser client in headless Chromium against a daemon this test starts on a free port:
+// the page connects, a frame appears, a drag changes the picture, a click focuses, the mode
+// selector changes the mode the frames report, a snapshot downloads, and a screenshot is saved.
+//   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
+// Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
+
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { mkdirSync } from 'node:fs';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const [hdof, artifacts] = process.argv.slice(2);
+if (!hdof || !artifacts) {
+  console.error('usage: node client.test.mjs HDOF_BINARY ARTIFACT_DIR');
+  process.exit(2);
+}
+const TIMEOUT_MS = 60000;
+// The pane is the window less the 272 px control panel: a 480x270 viewport.
+const WINDOW = { width: 480 + 272, height: 270 };
+
+function startDaemon() {
+  const env = { ...process.env };
+  delete env.HDOF_TOKEN;
+  const daemon = spawn(hdof, ['serve', '--port', '0', '--scene', 'builtin:dof'], {
+    env, stdio: ['ignore', 'pipe', 'pipe'],
+  });
+  let log = '';
+  daemon.stderr.on('data', (chunk) => { log += chunk; });
+  const url = new Promise((resolve, reject) => {
+    let output = '';
+    daemon.stdout.on('data', (chunk) => {
+      output += chunk;
+      const match = output.match(/http:\/\/\S+:\d+\//);
+      if (match) resolve(match[0]);
+    });
+    daemon.on('exit', (code) => reject(new Error(`hdof serve exited (${code}) before listening:\n${log}`)));
+    setTimeout(() => reject(new Error(`hdof serve printed no URL:\n${log}`)), TIMEOUT_MS).unref();
+  });
+  return { daemon, url, log: () => log };
+}
+
+async function stopDaemon(daemon) {
+  if (daemon.exitCode !== null || daemon.signalCode !== null) return;
+  const exited = new Promise((resolve) => daemon.once('exit', resolve));
+  daemon.kill('SIGTERM');
+  const timer = setTimeout(() => daemon.kill('SIGKILL'), 30000);
+  await exited;
+  clearTimeout(timer);
+}
+
+// The shown frame as a 48x27 grey thumbnail, to tell pictures apart.
+function thumbnail(page) {
+  return page.evaluate(() => {
+    const source = document.querySelector('#pane-main canvas');
+    const canvas = Object.assign(document.createElement('canvas'), { width: 48, height: 27 });
+    const g = canvas.getContext('2d', { willReadFrequently: true });
+    g.drawImage(source, 0, 0, canvas.width, canvas.height);
+    const { data } = g.getImageData(0, 0, canvas.width, canvas.height);
+    const grey = [];
+    for (let i = 0; i < data.length; i += 4) grey.push((data[i] + data[i + 1] + data[i + 2]) / 3);
+    return grey;
+  });
+}
+
+const meanDifference = (a, b) => a.reduce((sum, v, i) => sum + Math.abs(v - b[i]), 0) / a.length;
+const text = (page, selector) => page.locator(selector).textContent();
+const statsField = (page, name) => text(page, `#stats [data-field="${name}"]`);
+
+// Waits until the view has come to rest: a frame at the still JPEG quality is shown.
+async function stillFrame(page) {
+  await page.waitForFunction(
+    () => /\(q(9\d|100)\)/.test(document.querySelector('[data-field="bytes"]').textContent),
+    null, { timeout: TIMEOUT_MS });
+}
+
+async function run(page, url) {
+  await page.goto(`${url}#mode=postprocess`);
+  await page.waitForSelector('#status[data-state="live"]', { timeout: TIMEOUT_MS });
+  step('connected');
+
+  await page.waitForFunction(
+    () => document.querySelector('[data-field="mode"]').textContent === 'postprocess',
+    null, { timeout: TIMEOUT_MS });
+  const size = await statsField(page, 'size');
+  assert.equal(size, '480×270', 'the frame has the pane\'s size');
+  await stillFrame(page);
+  const before = await thumbnail(page);
+  assert.ok(before.some((v) => v > 8), 'the frame is not black');
+  step(`a frame appeared (${size})`);
+
+  const canvas = page.locator('#pane-main canvas');
+  const box = await canvas.boundingBox();
+  const centre = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
+  await page.mouse.move(centre.x, centre.y);
+  await page.mouse.down();
+  await page.mouse.move(centre.x + 90, centre.y + 20, { steps: 10 });
+  await page.mouse.up();
+  await page.waitForFunction(() => location.hash.includes('camera='), null, { timeout: TIMEOUT_MS });
+  await stillFrame(page);
+  let difference = 0;
+  for (const deadline = Date.now() + TIMEOUT_MS; difference < 4 && Date.now() < deadline;) {
+    await page.waitForTimeout(250);
+    difference = meanDifference(before, await thumbnail(page));
+  }
+  assert.ok(difference >= 4, `a drag changes the picture (mean difference ${difference.toFixed(2)})`);
+  step(`a drag changed the picture (mean difference ${difference.toFixed(1)} of 255)`);
+
+  // Click points until one lands on a surface at another depth than the focus (the background
+  // keeps the focus where it is).
+  const focusBefore = await text(page, '#focus-distance');
+  let focusAfter = focusBefore;
+  for (const [u, v] of [[0.5, 0.7], [0.3, 0.6], [0.7, 0.6], [0.5, 0.85], [0.2, 0.8], [0.8, 0.8]]) {
+    await page.mouse.click(box.x + box.width * u, box.y + box.height * v);
+    try {
+      await page.waitForFunction(
+        (old) => document.querySelector('#focus-distance').textContent !== old,
+        focusBefore, { timeout: 15000 });
+    } catch {
+      continue;
+    }
+    await page.waitForTimeout(1500); // the pull's end
+    focusAfter = await text(page, '#focus-distance');
+    break;
+  }
+  assert.notEqual(focusAfter, focusBefore, 'a click focuses on the surface under the cursor');
+  step(`click to focus: ${focusBefore} -> ${focusAfter}`);
+
+  await page.selectOption('#mode', 'pinhole');
+  await page.waitForFunction(
+    () => document.querySelector('[data-field="mode"]').textContent === 'pinhole',
+    null, { timeout: TIMEOUT_MS });
+  await page.waitForFunction(() => location.hash.includes('mode=pinhole')); // the URL follows
+  step('the mode selector changed the mode in the stats');
+
+  const [download] = await Promise.all([
+    page.waitForEvent('download', { timeout: TIMEOUT_MS }),
+    page.click('#snapshot'),
+  ]);
+  const name = download.suggestedFilename();
+  assert.match(name, /^hdof-pinhole-f[\d.]+-\d+mm-focus[\d.]+m\.png$/, 'the snapshot is named by its lens');
+  await download.saveAs(path.join(artifacts, name));
+  step(`snapshot ${name}`);
+
+  await page.screenshot({ path: path.join(artifacts, 'client.png') });
+  step(`screenshot ${path.join(artifacts, 'client.png')}`);
+}
+
+const started = Date.now();
+function step(message) {
+  console.log(`ok (${((Date.now() - started) / 1000).toFixed(1)} s): ${message}`);
+}
+
+async function main() {
+  mkdirSync(artifacts, { recursive: true });
+  const { daemon, url, log } = startDaemon();
+  let browser;
+  try {
+    const address = await url;
+    step(`hdof serve at ${address}`);
+    browser = await chromium.launch({
+      executablePath: '/usr/bin/chromium',
+      headless: true,
+      args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking',
+        '--disable-component-update', '--disable-sync'],
+      timeout: TIMEOUT_MS,
+    });
+    const page = await browser.newPage({ viewport: WINDOW, acceptDownloads: true });
+    const pageErrors = [];
+    page.on('pageerror', (error) => pageErrors.push(error.message));
+    page.on('console', (message) => {
+      if (message.type() === 'error') pageErrors.push(message.text());
+    });
+    page.setDefaultTimeout(TIMEOUT_MS);
+    try {
+      await run(page, address);
+    } catch (error) {
+      await page.screenshot({ path: path.join(artifacts, 'failure.png') }).catch(() => {});
+      throw error;
+    }
+    assert.deepEqual(pageErrors, [], 'no errors in the page');
+  } catch (error) {
+    console.error(`FAILED: ${error.stack ?? error}\n--- hdof serve log ---\n${log()}`);
+    process.exitCode = 1;
+  } finally {
+    await browser?.close().catch(() => {});
+    step('browser closed');
+    await stopDaemon(daemon);
+    step('hdof serve stopped');
+  }
+}
+
+await main();
