@@ -24,6 +24,8 @@ let lensSeq = 0; // the newest lens or focus_at input: frames before it show an 
 let stillQuality = 0; // the highest JPEG quality seen: the daemon's still quality
 const inputSentAt = new Map(); // seq -> performance.now(), for the input-to-frame latency
 const writeUrl = urlWriter();
+// The welcome's camera and lens are messages; the state keeps their fields.
+const strip = ({ type, seq: _, ...rest }) => rest;
 
 const stats = new StatsOverlay($('#stats'));
 const lensPanel = new LensPanel($('#lens'), (lens) => {
@@ -34,7 +36,10 @@ const handlers = {
   onStatus: showStatus,
   onWelcome: welcomed,
   onShown: shown,
-  onServerError: (error, pane) => pane === primary && showStatus({ state: 'live', message: error.message }, pane),
+  onServerError: (error, pane) => {
+    // A rejected message leaves the session live; the status says why.
+    if (pane.connection.live) showStatus({ state: 'live', message: error.message }, pane);
+  },
   onTokenNeeded: (message) => {
     $('#token-form').hidden = false;
     $('#token-form output').textContent = message;
@@ -73,7 +78,6 @@ function flush() {
 function welcomed(message, pane) {
   if (!welcome) {
     welcome = message;
-    const strip = ({ type, seq: _, ...rest }) => rest;
     state.camera = fromUrl.camera ?? strip(message.camera);
     state.lens = { ...strip(message.lens), ...fromUrl.lens };
     lensPanel.set(state.lens);
@@ -184,8 +188,7 @@ async function fullQualityFrame(pane) {
     if (pane.viewer.shown?.stats.jpeg_quality === 100 && quiet > 700) break;
     if (!nudged && quiet > 1000) { // the view had settled: render it again
       nudged = true;
-      const s = ++seq;
-      pane.send(protocol.camera(s, state.camera));
+      pane.send(protocol.camera(++seq, state.camera));
     }
   }
   // The welcome does not say the daemon's still quality; 90 is its default.
@@ -200,9 +203,12 @@ for (const pane of panes) {
     setView: (view) => { state.camera = view; queue('camera'); },
     getRange: () => dollyRange(welcome?.scene.bounds),
     onClick: (event) => {
-      const pixel = pane.viewportPixel(event);
-      if (!pixel || !state.lens) return;
-      lensSeq = sendInput((s) => protocol.focusAt(s, pixel.x, pixel.y, lensPanel.pullMs));
+      const point = pane.viewer.imagePoint(event);
+      if (!point || !state.lens) return;
+      lensSeq = sendInput((s, target) => {
+        const { x, y } = target.viewportPixel(point); // the panes' sizes may differ by a pixel
+        return protocol.focusAt(s, x, y, lensPanel.pullMs);
+      });
     },
   });
 }
@@ -213,8 +219,7 @@ $('#cameras').addEventListener('change', (event) => {
   event.target.value = '';
 });
 $('#home').addEventListener('click', () => {
-  const { type, seq: _, ...camera } = welcome.camera;
-  state.camera = camera;
+  state.camera = strip(welcome.camera);
   queue('camera');
 });
 $('#mode').addEventListener('change', (event) => {

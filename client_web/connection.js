@@ -97,6 +97,8 @@ export class Connection {
       this.handlers.onWelcome?.(message);
     } else if (message.type === 'error') {
       this.lastError = message;
+      // Before the welcome an error is about the hello (a close may follow).
+      if (!this.welcome) this.status('error', message.message);
       this.handlers.onServerError?.(message);
     }
   }

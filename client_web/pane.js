@@ -72,12 +72,10 @@ export class Pane {
     this.handlers.onShown?.(frame, this);
   }
 
-  // The viewport pixel under a pointer event, or null outside the image.
-  viewportPixel(event) {
-    const point = this.viewer.imagePoint(event);
-    const viewport = this.connection.viewport;
-    if (!point || !viewport) return null;
-    return { x: Math.floor(point.u * viewport.width), y: Math.floor(point.v * viewport.height) };
+  // The viewport pixel at a point given as fractions of the image ({u, v}, see Viewer).
+  viewportPixel({ u, v }) {
+    const { width, height } = this.connection.viewport;
+    return { x: Math.floor(u * width), y: Math.floor(v * height) };
   }
 }
 

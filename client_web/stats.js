@@ -3,6 +3,7 @@
 
 const PLOT_SECONDS = 5;
 const PLOT_MAX_MS = 200;
+const SHOWN_PASSES = 4;
 
 const ms = (v) => (v === undefined ? '–' : `${v.toFixed(1)} ms`);
 const kib = (v) => (v === undefined ? '–' : `${(v / 1024).toFixed(1)} KiB`);
@@ -34,8 +35,11 @@ export class StatsOverlay {
     this.field('mode', s.mode);
     this.field('size', `${frame.width}×${frame.height}`);
     this.field('gpu', ms(s.gpu_ms));
-    this.field('passes', Object.entries(s.passes_ms ?? {})
-      .map(([pass, t]) => `${pass} ${t.toFixed(1)}`).join(' · ') || '–');
+    // The costliest passes; the hybrid has a dozen more.
+    const passes = Object.entries(s.passes_ms ?? {}).sort((a, b) => b[1] - a[1]);
+    const lines = passes.slice(0, SHOWN_PASSES).map(([pass, t]) => `${pass} ${t.toFixed(1)}`);
+    if (passes.length > SHOWN_PASSES) lines.push(`+${passes.length - SHOWN_PASSES} more`);
+    this.field('passes', lines.join('\n') || '–');
     this.field('encode', ms(s.encode_ms));
     this.field('bytes', `${kib(s.bytes)} (q${s.jpeg_quality ?? '?'})`);
     this.field('latency', ms(this.latencyMs));
