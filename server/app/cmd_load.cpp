@@ -107,6 +107,9 @@ int runLoad(std::span<const std::string> args) {
   parser.option("--mode", "MODE", "pinhole|postprocess|raytrace|hybrid (default: the daemon's)",
                 &options.mode);
   parser.option("--size", "WxH", "viewport (default 640x360)", &size);
+  parser.option("--affinity", "KEY",
+                "session N adds affinity=KEY-N to its query (default: a random KEY)",
+                &options.affinity);
   parser.option("--token", "TOKEN", "the daemon's access token (or HDOF_TOKEN)", &token);
   parser.flag("--json", "print one JSON object instead of lines", &json);
   if (!parser.parse(args)) return 0;
@@ -125,6 +128,8 @@ int runLoad(std::span<const std::string> args) {
   if (!(options.pathSeconds > 0.0)) throw UsageError("--path-seconds must be above 0");
   if (!options.mode.empty() && !net::parseStreamingMode(options.mode))
     throw UsageError("--mode '" + options.mode + "': pinhole, postprocess, raytrace or hybrid");
+  if (!std::regex_match(options.affinity, std::regex("[A-Za-z0-9_.-]*")))
+    throw UsageError("--affinity '" + options.affinity + "': letters, digits, '_', '.', '-' only");
   Size2 viewport = parseSize(size);
   options.width = viewport.width;
   options.height = viewport.height;

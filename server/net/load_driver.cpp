@@ -202,7 +202,7 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
 
 std::vector<LoadSessionResult> runLoad(const LoadOptions& options) {
   std::vector<LoadSessionResult> results(options.sessions);
-  std::string run = runId();
+  std::string run = options.affinity.empty() ? runId() : options.affinity;
   std::vector<std::thread> threads;
   for (uint32_t i = 0; i < options.sessions; ++i) {
     results[i].index = i + 1;

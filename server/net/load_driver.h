@@ -18,7 +18,8 @@ namespace hdof::net {
 struct LoadOptions {
   std::string host = "127.0.0.1";
   int port = 0;
-  std::string path = "/session";  // may carry a query; each session adds affinity=RUN-INDEX
+  std::string path = "/session";  // may carry a query; each session adds affinity=KEY-INDEX
+  std::string affinity;           // KEY: a proxy's session key (empty: a random one per run)
   uint32_t sessions = 1;
   double durationS = 10.0;
   double inputHz = 30.0;                 // camera messages per second and session
