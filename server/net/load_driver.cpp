@@ -25,6 +25,11 @@ constexpr double kSwayMetres = 0.2, kSwaySeconds = 4.0;
 
 json array(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
+struct Input {
+  uint32_t seq = 0;
+  std::string text;
+};
+
 // The session's inputs over time: the camera path, or a sideways sway of the starting view.
 class InputScript {
  public:
@@ -40,38 +45,37 @@ class InputScript {
   }
 
   // The messages for time t (seconds since the start); each takes the next seq.
-  std::vector<std::string> messagesAt(double t, uint32_t& seq) const {
-    std::vector<std::string> messages;
+  std::vector<Input> messagesAt(double t, uint32_t& seq) const {
+    std::vector<json> messages;
     if (!options_.cameraPath) {
       json camera = welcomeCamera_;
       double dx = kSwayMetres * std::sin(2.0 * M_PI * t / kSwaySeconds);
-      camera["seq"] = ++seq;
       camera["position"][0] = camera["position"][0].get<double>() + dx;
       camera["target"][0] = camera["target"][0].get<double>() + dx;
-      messages.push_back(camera.dump());
-      return messages;
+      messages.push_back(camera);
+    } else {
+      double fraction = std::fmod(t, options_.pathSeconds) / options_.pathSeconds;
+      Camera camera;
+      Lens lens;
+      options_.cameraPath->sample(float(fraction), baseCamera_, baseLens_, camera, lens);
+      CameraMessage view = cameraMessageOf(camera, lens.focusDistance);
+      messages.push_back({{"type", "camera"},
+                          {"position", array(view.position)},
+                          {"target", array(view.target)},
+                          {"up", array(view.up)},
+                          {"fov_y_deg", view.fovYDeg}});
+      if (pathSetsLens_)
+        messages.push_back({{"type", "lens"},
+                            {"focal_length_mm", lens.focalLengthMm},
+                            {"f_number", lens.fNumber},
+                            {"focus_distance", lens.focusDistance}});
     }
-    double fraction = std::fmod(t, options_.pathSeconds) / options_.pathSeconds;
-    Camera camera;
-    Lens lens;
-    options_.cameraPath->sample(float(fraction), baseCamera_, baseLens_, camera, lens);
-    CameraMessage view = cameraMessageOf(camera, lens.focusDistance);
-    messages.push_back(json{
-        {"type", "camera"},
-        {"seq", ++seq},
-        {"position", array(view.position)},
-        {"target", array(view.target)},
-        {"up", array(view.up)},
-        {"fov_y_deg",
-         view.fovYDeg}}.dump());
-    if (pathSetsLens_)
-      messages.push_back(json{{"type", "lens"},
-                              {"seq", ++seq},
-                              {"focal_length_mm", lens.focalLengthMm},
-                              {"f_number", lens.fNumber},
-                              {"focus_distance", lens.focusDistance}}
-                             .dump());
-    return messages;
+    std::vector<Input> inputs;
+    for (json& message : messages) {
+      message["seq"] = ++seq;
+      inputs.push_back({seq, message.dump()});
+    }
+    return inputs;
   }
 
  private:
@@ -139,14 +143,14 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
 
   uint32_t seq = 0;
   std::deque<std::pair<uint32_t, Clock::time_point>> pending;  // seqs sent, not yet in a frame
-  auto send = [&](const std::string& text) {
-    client.sendText(text);
-    pending.emplace_back(seq, Clock::now());
+  auto send = [&](const Input& input) {
+    client.sendText(input.text);
+    pending.emplace_back(input.seq, Clock::now());
     ++result.inputsSent;
   };
   if (!options.mode.empty()) {
     ++seq;
-    send(json{{"type", "mode"}, {"seq", seq}, {"mode", options.mode}}.dump());
+    send({seq, json{{"type", "mode"}, {"seq", seq}, {"mode", options.mode}}.dump()});
   }
   InputScript script(options, *welcome);
   const auto period = std::chrono::duration_cast<Clock::duration>(
@@ -157,7 +161,7 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
   for (Clock::time_point now = start; now < end; now = Clock::now()) {
     if (now >= nextInput) {
       double t = std::chrono::duration<double>(now - start).count();
-      for (const std::string& message : script.messagesAt(t, seq)) send(message);
+      for (const Input& input : script.messagesAt(t, seq)) send(input);
       nextInput = std::max(nextInput + period, now);  // late ticks are skipped, not bunched
     }
     auto wait = std::min(nextInput, end) - Clock::now();
