@@ -32,22 +32,26 @@ http_get() {
   exec 3<&-
 }
 
-# A daemon on a free port: the port it prints.
+# A daemon on a free port (started here, so that cleanup knows its pid).
 start_daemon() {
-  local name="$1"
-  echo '{"mode": "postprocess", "max_sessions": 8}' >"$scratch/$name.json"
-  "$hdof" serve --port 0 --config "$scratch/$name.json" >"$scratch/$name.out" 2>"$scratch/$name.log" &
+  echo '{"mode": "postprocess", "max_sessions": 8}' >"$scratch/$1.json"
+  "$hdof" serve --port 0 --config "$scratch/$1.json" >"$scratch/$1.out" 2>"$scratch/$1.log" &
   pids+=($!)
+}
+# The port a started daemon prints.
+daemon_port() {
   for _ in $(seq 600); do
     local port
-    port="$(grep -oE ':[0-9]+/' "$scratch/$name.out" | tr -d :/ || true)"
+    port="$(grep -oE ':[0-9]+/' "$scratch/$1.out" | tr -d :/ || true)"
     if [[ -n "$port" ]]; then echo "$port"; return; fi
     sleep 0.1
   done
-  fail "$name did not start"
+  fail "$1 did not start"
 }
-port1="$(start_daemon daemon1)"
-port2="$(start_daemon daemon2)"
+start_daemon daemon1
+start_daemon daemon2
+port1="$(daemon_port daemon1)"
+port2="$(daemon_port daemon2)"
 
 # nginx on a free port: a few tries at random ones.
 started=""
