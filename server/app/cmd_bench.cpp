@@ -86,7 +86,7 @@ int runBench(std::span<const std::string> args) {
       raysShot.push_back(double(stats.raysShot));
       for (const auto& [pass, passTime] : stats.passMs) {
         auto it = std::find_if(passMs.begin(), passMs.end(),
-                               [&](const auto& entry) { return entry.first == pass; });
+                               [&name = pass](const auto& entry) { return entry.first == name; });
         if (it == passMs.end()) it = passMs.insert(passMs.end(), {pass, {}});
         it->second.push_back(passTime);
       }

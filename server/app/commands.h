@@ -12,5 +12,6 @@ int runCompare(std::span<const std::string> args);
 int runBench(std::span<const std::string> args);
 int runQuality(std::span<const std::string> args);
 int runServe(std::span<const std::string> args);
+int runLoad(std::span<const std::string> args);
 
 }  // namespace hdof

@@ -24,6 +24,8 @@ struct Command {
 const Command kCommands[] = {
     {"serve", "run the render daemon: sessions over WebSocket, the browser client over HTTP",
      hdof::runServe},
+    {"load", "scripted load: N WebSocket sessions against a daemon; frames/s, latency, errors",
+     hdof::runLoad},
     {"render", "render a still image of a scene (pinhole raster or thin-lens reference)",
      hdof::runRender},
     {"compare", "print PSNR and SSIM between two images, optionally inside a mask",

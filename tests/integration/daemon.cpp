@@ -150,32 +150,73 @@ bool receiveExactly(int fd, uint8_t* out, size_t size) {
 
 }  // namespace
 
-int rawCloseCode(int port, const std::vector<std::string>& messages) {
-  int fd = connectLoopback(port);
-  if (fd < 0) return 0;
-  std::string handshake =
+RawConnection::RawConnection(int port) : fd_(connectLoopback(port)) {}
+
+RawConnection::~RawConnection() { close(); }
+
+void RawConnection::close() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+bool RawConnection::handshake() {
+  std::string request =
       "GET /session HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
       "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
       "Sec-WebSocket-Protocol: hdof.v1\r\n\r\n";
   std::string response;
-  bool ok = sendAll(fd, handshake);
+  bool ok = open() && sendAll(fd_, request);
   for (uint8_t byte; ok && response.find("\r\n\r\n") == std::string::npos;) {
-    ok = receiveExactly(fd, &byte, 1);
+    ok = receiveExactly(fd_, &byte, 1);
     response += char(byte);
   }
-  for (const std::string& text : messages) {  // masked text frames, mask 0 (allowed)
-    std::string frame = {char(0x81)};
-    if (text.size() < 126) {
-      frame += char(0x80 | text.size());
-    } else {
-      frame += char(0x80 | 126);
-      frame += char(text.size() >> 8);
-      frame += char(text.size() & 0xff);
-    }
-    frame += std::string(4, '\0') + text;
-    ok = ok && sendAll(fd, frame);
+  return ok && response.starts_with("HTTP/1.1 101");
+}
+
+bool RawConnection::sendBytes(const std::string& bytes) { return open() && sendAll(fd_, bytes); }
+
+bool RawConnection::sendText(const std::string& text) { return sendBytes(maskedTextFrame(text)); }
+
+std::string RawConnection::receiveSome(size_t size, std::chrono::milliseconds timeout) {
+  std::string bytes(size, '\0');
+  pollfd fd{fd_, POLLIN, 0};
+  if (!open() || poll(&fd, 1, int(timeout.count())) <= 0) return {};
+  ssize_t n = recv(fd_, bytes.data(), size, 0);
+  bytes.resize(n > 0 ? size_t(n) : 0);
+  return bytes;
+}
+
+bool RawConnection::waitForClose(std::chrono::milliseconds timeout) {
+  auto deadline = std::chrono::steady_clock::now() + timeout;
+  char buffer[4096];
+  while (open()) {
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    pollfd fd{fd_, POLLIN, 0};
+    if (left <= 0ms || poll(&fd, 1, int(left.count())) <= 0) return false;
+    if (recv(fd_, buffer, sizeof(buffer), 0) <= 0) return true;
   }
+  return false;
+}
+
+std::string maskedTextFrame(const std::string& text) {
+  std::string frame = {char(0x81)};
+  if (text.size() < 126) {
+    frame += char(0x80 | text.size());
+  } else {
+    frame += char(0x80 | 126);
+    frame += char(text.size() >> 8);
+    frame += char(text.size() & 0xff);
+  }
+  return frame + std::string(4, '\0') + text;
+}
+
+int rawCloseCode(int port, const std::vector<std::string>& messages) {
+  RawConnection connection(port);
+  bool ok = connection.handshake();
+  for (const std::string& text : messages) ok = ok && connection.sendText(text);
   int code = 0;
+  int fd = connection.fd();
   while (ok && code == 0) {
     uint8_t head[2];
     ok = receiveExactly(fd, head, 2);
@@ -189,8 +230,26 @@ int rawCloseCode(int port, const std::vector<std::string>& messages) {
     ok = ok && receiveExactly(fd, payload.data(), payload.size());
     if (ok && (head[0] & 0x0f) == 0x8) code = length >= 2 ? payload[0] << 8 | payload[1] : 1005;
   }
-  close(fd);
   return code;
+}
+
+CommandResult runHdof(const std::string& args) {
+  std::string out = uniquePath("out.txt"), err = uniquePath("err.txt");
+  std::string command =
+      std::string(HDOF_BINARY) + " " + args + " >" + out + " 2>" + err + " </dev/null";
+  int status = std::system(command.c_str());
+  auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), read(out), read(err)};
+}
+
+double metricValue(int port, const std::string& name) {
+  std::string text = httpGet(port, "/metrics").body;
+  std::string prefix = "\n" + name + " ";
+  auto at = text.find(prefix);
+  return at == std::string::npos ? -1.0 : std::atof(text.c_str() + at + prefix.size());
 }
 
 HttpResponse httpGet(int port, const std::string& path) {

@@ -73,4 +73,40 @@ int closeCode(net::WsClient& client, std::string* reason = nullptr);
 // client reports close codes it does not know (1013) as 1002, a browser does not.
 int rawCloseCode(int port, const std::vector<std::string>& messages);
 
+// A bare TCP connection to the daemon, for clients that misbehave below the WebSocket API: half
+// frames, garbage bytes, no reading at all.
+class RawConnection {
+ public:
+  explicit RawConnection(int port);
+  ~RawConnection();
+  RawConnection(const RawConnection&) = delete;
+  RawConnection& operator=(const RawConnection&) = delete;
+  bool open() const { return fd_ >= 0; }
+  int fd() const { return fd_; }
+  // The WebSocket upgrade to /session; true when the daemon switched protocols.
+  bool handshake();
+  bool sendBytes(const std::string& bytes);
+  // One masked text frame (mask 0).
+  bool sendText(const std::string& text);
+  // Up to `size` bytes (fewer at the end of the stream or after the timeout); empty when none.
+  std::string receiveSome(size_t size, std::chrono::milliseconds timeout = kTimeout);
+  // Reads and drops bytes until the daemon closes the connection or the timeout: true on a close.
+  bool waitForClose(std::chrono::milliseconds timeout = kTimeout);
+  void close();
+
+ private:
+  int fd_ = -1;
+};
+// A masked WebSocket text frame of `text` (mask 0), as a client sends it.
+std::string maskedTextFrame(const std::string& text);
+
+// Runs `hdof ARGS` to the end; its exit code, stdout and stderr.
+struct CommandResult {
+  int exitCode = -1;
+  std::string out, err;
+};
+CommandResult runHdof(const std::string& args);
+// The value of a Prometheus sample without labels ("hdof_sessions"), -1 when absent.
+double metricValue(int port, const std::string& name);
+
 }  // namespace hdof::test

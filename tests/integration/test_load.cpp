@@ -1,0 +1,132 @@
+// hdof load against a test daemon, and the daemon's fairness and backpressure under it: figures
+// are checked for sanity only (frames came, no errors, shares within a generous bound), never
+// for speed.
+#include "daemon.h"
+
+#include <gtest/gtest.h>
+
+#include <future>
+#include <thread>
+
+namespace hdof::test {
+namespace {
+
+constexpr const char* kSize = "96x54";
+
+std::string loadArgs(int port, int sessions, int seconds) {
+  return "load --url ws://127.0.0.1:" + std::to_string(port) + " --sessions " +
+         std::to_string(sessions) + " --duration " + std::to_string(seconds) +
+         " --mode postprocess --size " + kSize;
+}
+
+nlohmann::json loadJson(const CommandResult& result) {
+  nlohmann::json report = nlohmann::json::parse(result.out, nullptr, false);
+  EXPECT_TRUE(report.is_object()) << result.out << result.err;
+  return report;
+}
+
+TEST(Load, SessionsFollowACameraPathAndReportSaneFigures) {
+  Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+  CommandResult result = runHdof(loadArgs(daemon.port(), 2, 3) + " --json --camera-path " +
+                                 HDOF_SOURCE_DIR "/docs/examples/dolly.json --path-seconds 2");
+  ASSERT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  nlohmann::json report = loadJson(result);
+  ASSERT_EQ(report["sessions"].size(), 2u) << result.out;
+  for (const nlohmann::json& session : report["sessions"]) {
+    EXPECT_GT(session["frames"].get<int>(), 0) << session.dump();
+    EXPECT_GT(session["fps"].get<double>(), 0.0) << session.dump();
+    EXPECT_GT(session["bytes_per_s"].get<double>(), 0.0) << session.dump();
+    EXPECT_EQ(session["errors"], 0) << session.dump();
+    EXPECT_GT(session["inputs_sent"].get<int>(), 1) << session.dump();
+    const nlohmann::json& latency = session["latency_ms"];
+    EXPECT_GT(latency["p50"].get<double>(), 0.0) << session.dump();
+    EXPECT_LE(latency["p50"].get<double>(), latency["p95"].get<double>());
+    EXPECT_LE(latency["p95"].get<double>(), latency["p99"].get<double>());
+  }
+  EXPECT_EQ(report["total"]["errors"], 0);
+  EXPECT_EQ(report["total"]["frames"].get<int>(), report["sessions"][0]["frames"].get<int>() +
+                                                      report["sessions"][1]["frames"].get<int>());
+  EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions_total"), 2.0);
+}
+
+TEST(Load, PrintsALinePerSessionAndATotal) {
+  Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+  CommandResult result = runHdof(loadArgs(daemon.port(), 1, 2));
+  ASSERT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  EXPECT_NE(result.out.find("\nsession=1 frames="), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("\ntotal sessions=1 frames="), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("latency_p95_ms="), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("errors=0"), std::string::npos) << result.out;
+}
+
+TEST(Load, BadUsageExits2AndAnAbsentDaemonExits1) {
+  for (const char* args :
+       {"load", "load --url http://127.0.0.1:8080", "load --url ws://127.0.0.1:99999",
+        "load --url ws://h:1 --sessions 0", "load --url ws://h:1 --mode reference",
+        "load --url ws://h:1 --duration -1", "load --url ws://h:1 --size 0x5",
+        "load --url ws://h:1 --camera-path /no/such/path.json"}) {
+    CommandResult result = runHdof(args);
+    EXPECT_EQ(result.exitCode, 2) << args << "\n" << result.err;
+    EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << args << result.err;
+  }
+  int port;
+  {
+    Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+    port = daemon.port();
+  }  // stopped: nothing listens there now
+  CommandResult result = runHdof("load --duration 1 --url ws://127.0.0.1:" + std::to_string(port));
+  EXPECT_EQ(result.exitCode, 1) << result.err;
+  EXPECT_NE(result.err.find("cannot connect"), std::string::npos) << result.err;
+}
+
+TEST(Capacity, SessionsGetFairShares) {
+  // The 20% figure is a benchmark's (docs/operations.md); here only a bound that noise cannot
+  // break on a shared machine.
+  Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+  CommandResult result = runHdof(loadArgs(daemon.port(), 3, 5) + " --json --rate 60");
+  ASSERT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  nlohmann::json report = loadJson(result);
+  EXPECT_GE(report["fps_min_over_max"].get<double>(), 0.5) << result.out;
+}
+
+TEST(Capacity, AClientThatNeverAcksGetsTwoFramesWhileOthersGoOn) {
+  Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+  auto load = std::async(std::launch::async,
+                         [&] { return runHdof(loadArgs(daemon.port(), 2, 5) + " --json"); });
+  auto slow = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*slow, 96, 54);
+  int frames = 0;
+  auto end = std::chrono::steady_clock::now() + 4s;
+  for (uint32_t seq = 1; std::chrono::steady_clock::now() < end; ++seq) {
+    nlohmann::json camera = welcome["camera"];
+    camera["seq"] = seq;
+    camera["position"][0] = camera["position"][0].get<double>() + 0.01 * (seq % 10);
+    slow->sendText(camera.dump());
+    if (nextFrame(*slow, 50ms)) ++frames;
+  }
+  EXPECT_EQ(frames, 2) << "max_unacked_frames is 2";
+  CommandResult result = load.get();
+  ASSERT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  nlohmann::json report = loadJson(result);
+  for (const nlohmann::json& session : report["sessions"])
+    EXPECT_GT(session["frames"].get<int>(), 2) << session.dump();
+}
+
+TEST(Capacity, AClientThatStopsReadingIsCutOffAfterTheClientTimeout) {
+  Daemon daemon({{}, R"({"mode": "postprocess", "client_timeout_s": 2})", {}});
+  RawConnection stalled(daemon.port());
+  ASSERT_TRUE(stalled.handshake());
+  ASSERT_TRUE(stalled.sendText(helloMessage(96, 54)));
+  // It never reads again (so never answers a ping): the daemon ends the session.
+  bool cutOff = false;
+  for (int i = 0; i < 300 && !cutOff; ++i) {
+    std::this_thread::sleep_for(100ms);
+    cutOff = metricValue(daemon.port(), "hdof_sessions_total") == 1.0 &&
+             metricValue(daemon.port(), "hdof_sessions") == 0.0;
+  }
+  EXPECT_TRUE(cutOff) << daemon.log();
+  EXPECT_NE(daemon.log().find("event=session_end"), std::string::npos) << daemon.log();
+}
+
+}  // namespace
+}  // namespace hdof::test
