@@ -2,6 +2,8 @@
 
 #include "render/focus_pick.h"
 
+#include <malloc.h>
+
 namespace hdof::net {
 
 RenderLoop::RenderLoop(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene,
@@ -77,6 +79,9 @@ void RenderLoop::freeRemovedSessions(std::unique_lock<std::mutex>& lock) {
   if (freed.empty()) return;
   lock.unlock();
   freed.clear();
+  // A pipeline's images and buffers are freed into the allocator's per-thread arenas; hand the
+  // pages back, or the daemon's RSS steps up with every session that replaces another.
+  malloc_trim(0);
   lock.lock();
 }
 
