@@ -126,6 +126,14 @@ Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkF
   return Image(context, desc, name);
 }
 
+std::unique_ptr<Image> createGeneralImage2D(const Context& context, uint32_t width, uint32_t height,
+                                            VkFormat format, VkImageUsageFlags usage,
+                                            const std::string& name) {
+  auto image = std::make_unique<Image>(createImage2D(context, width, height, format, usage, name));
+  makeGeneral(context, {image.get()});
+  return image;
+}
+
 void makeGeneral(const Context& context, std::initializer_list<const Image*> images) {
   context.submitAndWait([&](VkCommandBuffer cmd) {
     for (const Image* image : images)

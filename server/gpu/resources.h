@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <initializer_list>
+#include <memory>
 #include <span>
 #include <string>
 #include <utility>
@@ -128,6 +129,12 @@ Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkF
 
 // Moves new images to VK_IMAGE_LAYOUT_GENERAL, where render targets stay (storage and sampled).
 void makeGeneral(const Context& context, std::initializer_list<const Image*> images);
+
+// A new image of createImage2D already in VK_IMAGE_LAYOUT_GENERAL, owned by a pointer (for
+// images a pass remakes on resize).
+std::unique_ptr<Image> createGeneralImage2D(const Context& context, uint32_t width, uint32_t height,
+                                            VkFormat format, VkImageUsageFlags usage,
+                                            const std::string& name);
 
 // Copies a single-level colour image in VK_IMAGE_LAYOUT_GENERAL to a host-readable buffer (tight
 // rows), after all earlier writes and before the host reads it.

@@ -4,11 +4,9 @@ namespace hdof {
 namespace {
 
 std::unique_ptr<gpu::Image> makeOutput(const gpu::Context& context, uint32_t w, uint32_t h) {
-  auto image = std::make_unique<gpu::Image>(
-      gpu::createImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
-                         VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT, "hybrid output"));
-  gpu::makeGeneral(context, {image.get()});
-  return image;
+  return gpu::createGeneralImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
+                                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+                                   "hybrid output");
 }
 
 void computeToCompute(VkCommandBuffer cmd) {

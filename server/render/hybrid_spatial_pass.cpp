@@ -7,12 +7,10 @@ namespace {
 
 std::unique_ptr<gpu::Image> makeLayer(const gpu::Context& context, uint32_t w, uint32_t h,
                                       const char* name) {
-  auto image = std::make_unique<gpu::Image>(gpu::createImage2D(
+  return gpu::createGeneralImage2D(
       context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
       VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-      name));
-  gpu::makeGeneral(context, {image.get()});
-  return image;
+      name);
 }
 
 }  // namespace
