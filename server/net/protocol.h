@@ -2,7 +2,7 @@
 // validation, the error the server answers a bad one with, and the limits they are checked against.
 #pragma once
 
-#include "render/debug_view_pass.h"
+#include "render/modes.h"
 #include "render/frame_pipeline.h"
 
 #include <glm/glm.hpp>

@@ -3,38 +3,6 @@
 #include <shared/frame.h>
 
 namespace hdof {
-namespace {
-
-constexpr struct {
-  DebugView view;
-  const char* name;
-} kViews[] = {{DebugView::Final, "final"},       {DebugView::Mask, "mask"},
-              {DebugView::HitRatio, "hitratio"}, {DebugView::Coc, "coc"},
-              {DebugView::Near, "near"},         {DebugView::Far, "far"}};
-
-}  // namespace
-
-const char* debugViewName(DebugView view) {
-  for (const auto& v : kViews)
-    if (v.view == view) return v.name;
-  return "?";
-}
-
-std::optional<DebugView> parseDebugView(const std::string& name) {
-  for (const auto& v : kViews)
-    if (name == v.name) return v.view;
-  return std::nullopt;
-}
-
-std::string debugViewNames() {
-  std::string names;
-  for (const auto& v : kViews) {
-    if (!names.empty()) names += '|';
-    names += v.name;
-  }
-  return names;
-}
-
 DebugViewPass::DebugViewPass(const gpu::Context& context)
     : context_(context), sampler_(gpu::createNearestSampler(context)) {
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;

@@ -3,18 +3,13 @@
 #pragma once
 
 #include "gpu/pipeline.h"
+#include "render/modes.h"
 #include "render/render_targets.h"
 
 #include <optional>
 #include <string>
 
 namespace hdof {
-
-enum class DebugView { Final = 0, Mask = 1, HitRatio = 2, Coc = 3, Near = 4, Far = 5 };
-
-const char* debugViewName(DebugView view);
-std::optional<DebugView> parseDebugView(const std::string& name);
-std::string debugViewNames();  // "final|mask|..."
 
 class DebugViewPass {
  public:

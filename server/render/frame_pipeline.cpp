@@ -7,15 +7,6 @@
 namespace hdof {
 namespace {
 
-constexpr struct {
-  RenderMode mode;
-  const char* name;
-} kModes[] = {{RenderMode::Pinhole, "pinhole"},
-              {RenderMode::PostProcess, "postprocess"},
-              {RenderMode::Hybrid, "hybrid"},
-              {RenderMode::RayTrace, "raytrace"},
-              {RenderMode::Reference, "reference"}};
-
 bool sameView(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov;
 }
@@ -33,27 +24,6 @@ void computeToCompute(VkCommandBuffer cmd) {
 }
 
 }  // namespace
-
-const char* modeName(RenderMode mode) {
-  for (const auto& m : kModes)
-    if (m.mode == mode) return m.name;
-  return "?";
-}
-
-std::optional<RenderMode> parseMode(const std::string& name) {
-  for (const auto& m : kModes)
-    if (name == m.name) return m.mode;
-  return std::nullopt;
-}
-
-std::string modeNames() {
-  std::string names;
-  for (const auto& m : kModes) {
-    if (!names.empty()) names += '|';
-    names += m.name;
-  }
-  return names;
-}
 
 double FrameStats::passMsOf(const std::string& pass) const {
   for (const auto& [name, ms] : passMs)

@@ -7,6 +7,7 @@
 #include "render/camera.h"
 #include "render/gbuffer_pass.h"
 #include "render/hybrid_dof.h"
+#include "render/modes.h"
 #include "render/postprocess_dof.h"
 #include "render/reference_pass.h"
 #include "render/tonemap_pass.h"
@@ -19,12 +20,6 @@
 #include <vector>
 
 namespace hdof {
-
-enum class RenderMode { Pinhole, PostProcess, Hybrid, RayTrace, Reference };
-
-const char* modeName(RenderMode mode);
-std::optional<RenderMode> parseMode(const std::string& name);
-std::string modeNames();  // "pinhole|postprocess|hybrid|raytrace|reference"
 
 struct FrameRequest {
   RenderMode mode = RenderMode::Pinhole;
