@@ -34,14 +34,27 @@ function(hdof_embed_shaders target sources)
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 ${includes}
 namespace hdof {
-std::span<const uint32_t> embeddedShader(const std::string& name) {
+namespace {
+const std::map<std::string, std::span<const uint32_t>>& shaders() {
   static const std::map<std::string, std::span<const uint32_t>> shaders = {
 ${entries}  };
-  auto it = shaders.find(name);
-  if (it == shaders.end()) throw std::logic_error(\"no embedded shader named \" + name);
+  return shaders;
+}
+}  // namespace
+
+std::span<const uint32_t> embeddedShader(const std::string& name) {
+  auto it = shaders().find(name);
+  if (it == shaders().end()) throw std::logic_error(\"no embedded shader named \" + name);
   return it->second;
+}
+
+std::vector<std::string> embeddedShaderNames() {
+  std::vector<std::string> names;
+  for (const auto& entry : shaders()) names.push_back(entry.first);
+  return names;
 }
 }  // namespace hdof
 ")

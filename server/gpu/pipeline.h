@@ -11,6 +11,7 @@
 
 namespace hdof {
 std::span<const uint32_t> embeddedShader(const std::string& name);  // generated at build time
+std::vector<std::string> embeddedShaderNames();                     // every one, sorted
 }
 
 namespace hdof::gpu {
