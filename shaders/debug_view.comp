@@ -6,6 +6,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
+#include "shared/debug_view.h"
 #include "shared/dof.h"
 
 layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
@@ -15,7 +16,7 @@ layout(set = 1, binding = 4) uniform sampler2D historyFar;  // rgba16f: colour x
 layout(set = 1, binding = 5) uniform writeonly image2D outColor;  // rgba16f
 
 layout(push_constant) uniform Push {
-  uint view;  // DebugView in render/frame_pipeline.h: 1 mask, 2 hit ratio, 3 CoC, 4 near, 5 far
+  uint view;  // kDebugView* (shared/debug_view.h)
 } push;
 
 // The tonemap's filmic curve maps this to about white.
@@ -23,22 +24,22 @@ const float kWhite = 8.0;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
   bool traced = texelFetch(rays, pixel, 0).r > 0u;
   vec3 color = vec3(0.0);
-  if (push.view == 1u) {
-    color = vec3(float(texelFetch(rays, pixel, 0).r) / float(max(frame.image.w, 1u))) * kWhite;
-  } else if (push.view == 2u) {
+  if (push.view == kDebugViewMask) {
+    color = vec3(float(texelFetch(rays, pixel, 0).r) / float(max(frame.samplesPerPixel, 1u))) * kWhite;
+  } else if (push.view == kDebugViewHitRatio) {
     color = traced ? vec3(texelFetch(historyNear, pixel, 0).a) * kWhite : vec3(0.0, 0.0, 0.05);
-  } else if (push.view == 3u) {
+  } else if (push.view == kDebugViewCoc) {
     float depth = texelFetch(normalDepth, pixel, 0).w;
-    float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
+    float coc = pixelCoc(depth);
     float level = abs(coc) < kDofFocusZone ? 0.0 : min(abs(coc) / 32.0, 1.0) * kWhite;
     color = coc < 0.0 ? vec3(0.1, 0.3, 1.0) * level : vec3(1.0, 0.3, 0.1) * level;
-  } else if (push.view == 4u) {
+  } else if (push.view == kDebugViewNear) {
     vec4 near = texelFetch(historyNear, pixel, 0);
     color = traced && near.a > 0.0 ? near.rgb / near.a : vec3(0.0);
-  } else if (push.view == 5u) {
+  } else if (push.view == kDebugViewFar) {
     float farShare = 1.0 - texelFetch(historyNear, pixel, 0).a;
     color = traced && farShare > 0.0 ? texelFetch(historyFar, pixel, 0).rgb / farShare : vec3(0.0);
   }

@@ -21,7 +21,7 @@ layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
 void main() {
   ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
   ivec2 first = quad * 2;
-  ivec2 size = ivec2(frame.image.xy);
+  ivec2 size = ivec2(frame.imageSize);
   if (any(greaterThanEqual(first, size))) return;
   vec3 sharp[4];
   float coc[4];

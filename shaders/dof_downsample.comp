@@ -18,7 +18,7 @@ layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  /
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(pixel, imageSize(halfColorCoc)))) return;
-  ivec2 size = ivec2(frame.image.xy);
+  ivec2 size = ivec2(frame.imageSize);
   vec3 colors[4];
   float cocs[4];
   float nearest = kDofMaxCoc;

@@ -23,7 +23,6 @@ layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D farLayer;  // a: centre CoC
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D nearLayer;  // premultiplied
 
-const float kPi = 3.14159265;
 
 // A far tap's weight where it does not cover the centre: small against any covering tap's.
 const float kHoleFill = 1e-4;
@@ -46,9 +45,9 @@ float coverage(float radius, float distance) {
 // Aperture blades: the distance to the edge of a regular polygon of unit circumradius, seen from
 // its centre in direction `angle` (radians, y up); one vertex at the blade rotation.
 float apertureBoundary(float angle) {
-  float blades = frame.lens.w;
+  float blades = frame.bladeCount;
   float sector = 2.0 * kPi / blades;
-  float offset = fract((angle - frame.lensShape.x) / sector) - 0.5;
+  float offset = fract((angle - frame.bladeRotation) / sector) - 0.5;
   return cos(kPi / blades) / cos(offset * sector);
 }
 
@@ -114,7 +113,7 @@ void main() {
   centerInverseArea = 1.0 / (centerRadius * centerRadius);
   nearestCoc = tile.y;
   inverseLayerDepth = 1.0 / max(2.0, 0.5 * abs(nearestCoc));
-  float blades = frame.lens.w;
+  float blades = frame.bladeCount;
   bool polygon = blades >= 3.0;
   // No tap can be in the near layer where the tile's nearest CoC is in focus.
   bool withNear = nearestCoc <= -kDofFocusZone;

@@ -31,7 +31,7 @@ void main() {
   }
   vec4 sum = vec4(center.rgb, 1.0);
   [[unroll]] for (int i = 0; i < 8; ++i) {
-    float angle = float(i) * (3.14159265 / 4.0);
+    float angle = float(i) * (kPi / 4.0);
     ivec2 source = clamp(ivec2(floor(vec2(pixel) + 0.5 + radius * vec2(cos(angle), sin(angle)))),
                          ivec2(0), size - 1);
     vec4 tap = imageLoad(halfColorCoc, source);

@@ -16,7 +16,7 @@ void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(tile, imageSize(tiles)))) return;
   ivec2 first = tile * int(kDofTileSize);
-  ivec2 last = min(first + int(kDofTileSize), ivec2(frame.image.xy)) - 1;
+  ivec2 last = min(first + int(kDofTileSize), ivec2(frame.imageSize)) - 1;
   float largest = 0.0;
   float nearest = 0.0;
   for (int y = first.y; y <= last.y; ++y) {

@@ -20,7 +20,7 @@ layout(set = 1, binding = 5) uniform writeonly image2D outMotion;  // rg16f
 // in the previous frame.
 vec2 motionTo(vec4 point, ivec2 pixel) {
   vec4 clip = frame.previousViewProj * point;
-  vec2 previous = (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
+  vec2 previous = (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.imageSize);
   return previous - (vec2(pixel) + 0.5);
 }
 
@@ -28,10 +28,10 @@ const uint kNoTriangle = 0xffffffffu;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
   uint triangle = imageLoad(visibility, pixel).r;
   if (triangle == kNoTriangle) {
-    imageStore(outColor, pixel, vec4(frame.skyColor.rgb, 1.0));
+    imageStore(outColor, pixel, vec4(frame.skyColor, 1.0));
     imageStore(outSpecular, pixel, vec4(0.0));
     imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
     imageStore(outMotion, pixel, vec4(motionTo(vec4(pinholeDirection(vec2(pixel) + 0.5), 0.0),
@@ -48,17 +48,17 @@ void main() {
   vec3 p = cross(direction, edge2);
   float det = dot(edge1, p);
   float inverseDet = abs(det) > 1e-20 ? 1.0 / det : 0.0;
-  vec3 toOrigin = frame.eye.xyz - a;
+  vec3 toOrigin = frame.eye - a;
   vec2 barycentrics =
       vec2(dot(toOrigin, p), dot(direction, cross(toOrigin, edge1))) * inverseDet;
   SurfacePoint s = surfaceOfTriangle(triangle, barycentrics);
-  vec3 toEye = frame.eye.xyz - s.position;
+  vec3 toEye = frame.eye - s.position;
   float distance = length(toEye);
   vec3 specular;
   vec3 color = shadeSurface(s, toEye / distance, distance * pixelAngle(), specular);
   imageStore(outColor, pixel, vec4(color, 1.0));
   imageStore(outSpecular, pixel, vec4(specular, 1.0));
-  float linearDepth = dot(s.position - frame.eye.xyz, frame.forward.xyz);
+  float linearDepth = dot(s.position - frame.eye, frame.forward);
   imageStore(outNormalDepth, pixel, vec4(normalize(s.normal), linearDepth));
   imageStore(outMotion, pixel, vec4(motionTo(vec4(s.position, 1.0), pixel), 0.0, 0.0));
 }

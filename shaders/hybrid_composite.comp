@@ -37,9 +37,9 @@ const float kBokehSpecular = 4.0;
 float tracedShare(ivec2 pixel) {
   float count = 0.0;
   for (int i = 0; i < 8; ++i) {
-    float angle = float(i) * (3.14159265 / 4.0);
+    float angle = float(i) * (kPi / 4.0);
     ivec2 q = pixel + ivec2(round(kSeamFade * vec2(cos(angle), sin(angle))));
-    q = clamp(q, ivec2(0), ivec2(frame.image.xy) - 1);
+    q = clamp(q, ivec2(0), ivec2(frame.imageSize) - 1);
     count += texelFetch(rays, q, 0).r > 0u ? 1.0 : 0.0;
   }
   return count / 8.0;
@@ -47,7 +47,7 @@ float tracedShare(ivec2 pixel) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
   vec3 pp = texelFetch(postProcess, pixel, 0).rgb;
   if (texelFetch(rays, pixel, 0).r == 0u) {
     imageStore(outColor, pixel, vec4(pp, 1.0));
@@ -58,7 +58,7 @@ void main() {
   vec4 far = texelFetch(historyFar, pixel, 0);
   vec3 traced = near.rgb + far.rgb;
   float depth = texelFetch(normalDepth, pixel, 0).w;
-  float coc = signedCocPixels(depth, frame.up.w, frame.forward.w, frame.lens.x);
+  float coc = pixelCoc(depth);
   // A pixel whose history is short (the view moves) is noisy: the post-process shares it.
   float trust = clamp(far.a / kTrustedRays, 0.0, 1.0);
   vec3 color;

@@ -48,12 +48,12 @@ void main() {
   vec4 nearSum = near, farSum = far;
   float weightSum = 1.0;
   if (radius >= 1.0) {
-    ivec2 size = ivec2(frame.image.xy);
+    ivec2 size = ivec2(frame.imageSize);
     float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
     for (int i = 0; i < kTaps; ++i) {
       // A Vogel spiral over the disc, turned per pixel so that no pattern shows.
       float r = radius * sqrt((float(i) + 0.5) / float(kTaps));
-      float angle = 6.28318531 * (float(i) * 0.618034 + turn);
+      float angle = 2.0 * kPi * (float(i) * 0.618034 + turn);
       ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       if (texelFetch(rays, q, 0).r == 0u) continue;

@@ -45,7 +45,7 @@ const float kStill = 0.05, kMoving = 0.5;
 // The moving average's floor in motion: a shorter window, that lags less.
 const float kMovingMinBlend = 0.4;
 
-bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.image.xy))); }
+bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.imageSize))); }
 
 // The far world position this pixel sees through the near layer: its own, else the weighted
 // average of its 3x3 neighbours' (valid when w > 0).
@@ -55,7 +55,7 @@ vec4 farWorldPosition(ivec2 pixel) {
   vec4 sum = vec4(0.0);
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.image.xy) - 1);
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.imageSize) - 1);
       vec4 p = texelFetch(farPosition, q, 0);
       if (texelFetch(rays, q, 0).r > 0u && p.w > 0.0) sum += vec4(p.xyz * p.w, p.w);
     }
@@ -72,7 +72,7 @@ NeighbourRange neighbourRange(ivec2 pixel) {
   NeighbourRange range = NeighbourRange(vec4(1e30), vec4(-1e30), vec3(1e30), vec3(-1e30));
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.image.xy) - 1);
+      ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.imageSize) - 1);
       if (texelFetch(rays, q, 0).r == 0u) continue;
       vec4 n = texelFetch(nearLayer, q, 0);
       vec4 nearNow = vec4(n.rgb * n.a, n.a);
@@ -87,7 +87,7 @@ NeighbourRange neighbourRange(ivec2 pixel) {
 
 vec2 pixelOf(mat4 viewProj, vec3 world) {
   vec4 clip = viewProj * vec4(world, 1.0);
-  return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.image.xy);
+  return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.imageSize);
 }
 
 // How a world point moved on screen since the previous frame (previous minus current). The far
@@ -120,7 +120,7 @@ void main() {
   // 1 / minBlend frames at the full rays per pixel.
   float rays = float(entry.y);
   float moving = smoothstep(kStill, kMoving, length(pixelMotion));
-  float window = float(max(frame.image.w, 1u)) / mix(push.minBlend, kMovingMinBlend, moving);
+  float window = float(max(frame.samplesPerPixel, 1u)) / mix(push.minBlend, kMovingMinBlend, moving);
   float samples = pixelValid ? moments.z : 0.0;
   float accumulated = min(samples + rays, window);
   float blend = rays / accumulated;
@@ -146,7 +146,7 @@ void main() {
   float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
   vec2 m = pixelValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
   // A short history says little about the variance: such pixels ask for full rays.
-  float variance = accumulated < 4.0 * float(frame.image.w)
+  float variance = accumulated < 4.0 * float(frame.samplesPerPixel)
                        ? kRayMaskVarianceNew
                        : max(m.y - m.x * m.x, 0.0) * rays;
   imageStore(outNear, pixel, outNearValue);

@@ -33,7 +33,7 @@ void main() {
   uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
   uvec2 pixel = unpackRayWorkPixel(entry.x);
   uint rays = max(entry.y, 1u);
-  vec4 rotation = pixelRotation4(pixel, 2u);
+  vec4 rotation = pixelRotation4(pixel, kSequenceHybrid);
   uint firstSample = imageLoad(samplesTraced, ivec2(pixel)).r;
   imageStore(samplesTraced, ivec2(pixel), uvec4(firstSample + rays));
   vec3 nearSum = vec3(0.0), farSum = vec3(0.0), farPositionSum = vec3(0.0);
@@ -43,8 +43,8 @@ void main() {
     vec3 origin;
     vec3 direction = thinLensRay(vec2(pixel) + u.xy, apertureSample(u.zw), origin);
     RaySample hit = traceCameraRay(origin, direction);
-    float depth = min(dot(hit.position - frame.eye.xyz, frame.forward.xyz), kBackgroundDepth);
-    float coc = signedCocPixels(max(depth, 1e-3), frame.up.w, frame.forward.w, frame.lens.x);
+    float depth = min(dot(hit.position - frame.eye, frame.forward), kBackgroundDepth);
+    float coc = pixelCoc(max(depth, 1e-3));
     float w = nearWeight(coc);
     nearSum += w * hit.radiance;
     farSum += (1.0 - w) * hit.radiance;

@@ -15,7 +15,7 @@ layout(set = 1, binding = 2, r8ui) uniform readonly uimage2D rays;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  bool inside = all(lessThan(pixel, ivec2(frame.image.xy)));
+  bool inside = all(lessThan(pixel, ivec2(frame.imageSize)));
   uint count = inside ? imageLoad(rays, pixel).r : 0u;
   uvec4 ballot = subgroupBallot(count > 0u);
   uint listed = subgroupBallotBitCount(ballot);

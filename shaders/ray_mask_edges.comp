@@ -28,7 +28,7 @@ float secondDifference(int i) { return float(abs(i) == 2 ? 1 : abs(i) == 1 ? 0 :
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.image.xy);
+  ivec2 size = ivec2(frame.imageSize);
   if (any(greaterThanEqual(pixel, size))) return;
   vec3 normalDx = vec3(0.0), normalDy = vec3(0.0);
   float inverseDxx = 0.0, inverseDyy = 0.0;

@@ -24,7 +24,7 @@ layout(push_constant) uniform Push {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.image.xy);
+  ivec2 size = ivec2(frame.imageSize);
   if (any(greaterThanEqual(pixel, size))) return;
   int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
   bool nearEdge = false;
@@ -41,7 +41,7 @@ void main() {
   // as the variance of the pixel's rays asks.
   bool settled = noise > 0.0 && noise < kRayMaskVarianceNew;
   float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
-  uint samples = clamp(frame.image.w, 1u, 255u);  // what r8ui holds
+  uint samples = clamp(frame.samplesPerPixel, 1u, 255u);  // what r8ui holds
   uint count = 0u;
   if (nearEdge || noise >= kRayMaskVarianceOn)
     count = clamp(uint(ceil(need * float(samples))), 1u, samples);

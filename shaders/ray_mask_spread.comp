@@ -18,7 +18,7 @@ layout(set = 1, binding = 4, rg16f) uniform writeonly image2D spread;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.image.xy);
+  ivec2 size = ivec2(frame.imageSize);
   if (any(greaterThanEqual(pixel, size))) return;
   int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
   float halfHeight = -1.0;

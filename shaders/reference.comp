@@ -15,18 +15,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 1, binding = 1, rgba32f) uniform image2D accumulation;
 
-layout(push_constant) uniform Push {
-  uint firstSample;  // number of the first ray of each pixel's sequence traced here
-  uint sampleCount;
-  uint accumulate;  // 0: start a new sum
-  uint sequence;  // which family of per-pixel sample sequences (modes never share rays)
-} push;
+layout(push_constant) uniform Push { RayTraceRays push; };
 
 void main() {
   uvec2 pixel = gl_GlobalInvocationID.xy;
-  if (any(greaterThanEqual(pixel, frame.image.xy))) return;
+  if (any(greaterThanEqual(pixel, frame.imageSize))) return;
   vec4 rotation = pixelRotation4(pixel, push.sequence);
-  bool jitter = frame.options.y != 0u;
+  bool jitter = frame.pixelJitter != 0u;
   vec3 sum = vec3(0.0);
   for (uint i = 0u; i < push.sampleCount; ++i) {
     vec4 u = r4Sample(push.firstSample + i, rotation);

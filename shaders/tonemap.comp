@@ -21,8 +21,8 @@ vec3 srgbEncode(vec3 linear) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.image.xy))) return;
+  if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
   vec4 value = texelFetch(radiance, pixel, 0);
   vec3 color = value.a > 0.0 ? value.rgb / value.a : vec3(0.0);
-  imageStore(display, pixel, vec4(srgbEncode(filmic(color * frame.skyColor.w)), 1.0));
+  imageStore(display, pixel, vec4(srgbEncode(filmic(color * frame.exposure)), 1.0));
 }

@@ -261,11 +261,18 @@ Context::Context(const ContextOptions& options) {
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   poolInfo.queueFamilyIndex = queueFamily_;
   VK_CHECK(vkCreateCommandPool(device_, &poolInfo, nullptr, &commandPool_));
+
+  VkSamplerCreateInfo samplerInfo{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  samplerInfo.magFilter = samplerInfo.minFilter = VK_FILTER_NEAREST;
+  samplerInfo.addressModeU = samplerInfo.addressModeV = samplerInfo.addressModeW =
+      VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VK_CHECK(vkCreateSampler(device_, &samplerInfo, nullptr, &nearestSampler_));
 }
 
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    vkDestroySampler(device_, nearestSampler_, nullptr);
     vkDestroyCommandPool(device_, commandPool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }

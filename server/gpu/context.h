@@ -35,6 +35,8 @@ class Context {
   std::string deviceName() const { return properties_.deviceName; }
   float timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   bool timestampsSupported() const { return timestampsSupported_; }
+  // Reads texels as they are (nearest, clamped): how every pass samples the images of a frame.
+  VkSampler nearestSampler() const { return nearestSampler_; }
 
   // Records commands into a fresh command buffer, submits it and waits for it to finish.
   void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
@@ -62,6 +64,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queueFamily_ = 0;
   VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  VkSampler nearestSampler_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
   bool timestampsSupported_ = false;

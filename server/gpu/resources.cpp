@@ -107,15 +107,6 @@ Image::Image(const Context& context, const ImageDesc& desc, const std::string& n
   context.setName(VK_OBJECT_TYPE_IMAGE_VIEW, reinterpret_cast<uint64_t>(view), name + " view");
 }
 
-Sampler createNearestSampler(const Context& context) {
-  VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
-  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
-  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-  VkSampler sampler = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateSampler(context.device(), &info, nullptr, &sampler));
-  return Sampler(context.device(), sampler);
-}
-
 Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
                     VkImageUsageFlags usage, const std::string& name) {
   ImageDesc desc;
@@ -126,21 +117,31 @@ Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkF
   return Image(context, desc, name);
 }
 
-std::unique_ptr<Image> createGeneralImage2D(const Context& context, uint32_t width, uint32_t height,
-                                            VkFormat format, VkImageUsageFlags usage,
-                                            const std::string& name) {
-  auto image = std::make_unique<Image>(createImage2D(context, width, height, format, usage, name));
-  makeGeneral(context, {image.get()});
+Image ImageBatch::make(uint32_t width, uint32_t height, VkFormat format, const std::string& name,
+                       VkImageUsageFlags extraUsage) {
+  constexpr VkImageUsageFlags kUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                                       VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                                       VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  Image image = createImage2D(context_, width, height, format, kUsage | extraUsage, name);
+  made_.push_back(image.get());
   return image;
 }
 
-void makeGeneral(const Context& context, std::initializer_list<const Image*> images) {
-  context.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const Image* image : images)
-      transitionImage(cmd, image->get(), VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
-                      VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+void ImageBatch::finish() {
+  context_.submitAndWait([&](VkCommandBuffer cmd) {
+    VkClearColorValue zero{};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    for (VkImage image : made_) {
+      transitionImage(cmd, image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, 0, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_TRANSFER_WRITE_BIT);
+      vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+    }
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                  VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
   });
+  made_.clear();
 }
 
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer) {
@@ -150,6 +151,16 @@ void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& bu
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {image.width(), image.height(), 1};
   vkCmdCopyImageToBuffer(cmd, image.get(), VK_IMAGE_LAYOUT_GENERAL, buffer.get(), 1, &region);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+}
+
+void copyBufferToHost(VkCommandBuffer cmd, const Buffer& source, const Buffer& destination,
+                      VkDeviceSize bytes) {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(cmd, source.get(), destination.get(), 1, &region);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }

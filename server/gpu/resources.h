@@ -10,6 +10,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace hdof::gpu {
 
@@ -120,25 +121,34 @@ class Image {
   ImageDesc desc_;
 };
 
-// A sampler that reads texels as they are (nearest, clamped): how passes read render targets.
-Sampler createNearestSampler(const Context& context);
-
-// A single-level 2D colour image, as render targets are.
+// A single-level 2D colour image.
 Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
                     VkImageUsageFlags usage, const std::string& name);
 
-// Moves new images to VK_IMAGE_LAYOUT_GENERAL, where render targets stay (storage and sampled).
-void makeGeneral(const Context& context, std::initializer_list<const Image*> images);
+// Makes the images of a frame pipeline (2D, single level, for storage, sampling and transfers) and
+// readies them in one submission: each moved to VK_IMAGE_LAYOUT_GENERAL, where it stays, and
+// cleared to zero.
+class ImageBatch {
+ public:
+  explicit ImageBatch(const Context& context) : context_(context) {}
+  Image make(uint32_t width, uint32_t height, VkFormat format, const std::string& name,
+             VkImageUsageFlags extraUsage = 0);
+  // Submits and waits. The images made must still exist.
+  void finish();
 
-// A new image of createImage2D already in VK_IMAGE_LAYOUT_GENERAL, owned by a pointer (for
-// images a pass remakes on resize).
-std::unique_ptr<Image> createGeneralImage2D(const Context& context, uint32_t width, uint32_t height,
-                                            VkFormat format, VkImageUsageFlags usage,
-                                            const std::string& name);
+ private:
+  const Context& context_;
+  std::vector<VkImage> made_;
+};
 
 // Copies a single-level colour image in VK_IMAGE_LAYOUT_GENERAL to a host-readable buffer (tight
 // rows), after all earlier writes and before the host reads it.
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer);
+
+// Copies the first `bytes` of a buffer to a host-readable one, after all earlier writes and
+// before the host reads it.
+void copyBufferToHost(VkCommandBuffer cmd, const Buffer& source, const Buffer& destination,
+                      VkDeviceSize bytes);
 
 // Zeroes colour images in VK_IMAGE_LAYOUT_GENERAL (made with VK_IMAGE_USAGE_TRANSFER_DST_BIT),
 // after earlier compute reads and before later compute reads and writes.

@@ -34,19 +34,27 @@ gpu::FrameUniforms makeFrameUniforms(const Scene& scene, const Camera& camera, c
   gpu::FrameUniforms u{};
   u.viewProj = projection * view;
   u.previousViewProj = u.viewProj;
-  u.eye = glm::vec4(camera.position, tanHalfY);
-  u.right = glm::vec4(right, tanHalfY * aspect);
-  u.up = glm::vec4(camera.up, lens.apertureDiameter());
-  u.forward = glm::vec4(camera.forward, lens.focusDistance);
-  u.lens = glm::vec4(focalLengthPixels(camera, settings.width, settings.height),
-                     lens.focalLengthMm * 0.001f, lens.fNumber, static_cast<float>(lens.blades));
-  u.lensShape = glm::vec4(lens.bladeRotation, 0.0f, 0.0f, 0.0f);
-  u.skyColor = glm::vec4(scene.skyColor, settings.exposure);
-  u.groundColor = glm::vec4(scene.groundColor, 0.0f);
-  u.image =
-      glm::uvec4(settings.width, settings.height, settings.frameIndex, settings.samplesPerPixel);
-  u.options =
-      glm::uvec4(static_cast<uint32_t>(scene.lights.size()), settings.pixelJitter ? 1 : 0, 0, 0);
+  u.eye = camera.position;
+  u.tanHalfFovY = tanHalfY;
+  u.right = right;
+  u.tanHalfFovX = tanHalfY * aspect;
+  u.up = camera.up;
+  u.apertureDiameter = lens.apertureDiameter();
+  u.forward = camera.forward;
+  u.focusDistance = lens.focusDistance;
+  u.focalLengthPixels = focalLengthPixels(camera, settings.width, settings.height);
+  u.focalLength = lens.focalLengthMm * 0.001f;
+  u.fNumber = lens.fNumber;
+  u.bladeCount = static_cast<float>(lens.blades);
+  u.bladeRotation = lens.bladeRotation;
+  u.skyColor = scene.skyColor;
+  u.exposure = settings.exposure;
+  u.groundColor = scene.groundColor;
+  u.imageSize = glm::uvec2(settings.width, settings.height);
+  u.frameIndex = settings.frameIndex;
+  u.samplesPerPixel = settings.samplesPerPixel;
+  u.lightCount = static_cast<uint32_t>(scene.lights.size());
+  u.pixelJitter = settings.pixelJitter ? 1 : 0;
   return u;
 }
 

@@ -7,6 +7,10 @@
 namespace hdof {
 namespace {
 
+constexpr VkCommandBufferBeginInfo kOneTimeSubmit{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO,
+                                                  nullptr,
+                                                  VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
+
 bool sameView(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov;
 }
@@ -15,12 +19,6 @@ bool sameLens(const Lens& a, const Lens& b) {
   return a.focalLengthMm == b.focalLengthMm && a.fNumber == b.fNumber &&
          a.focusDistance == b.focusDistance && a.blades == b.blades &&
          a.bladeRotation == b.bladeRotation;
-}
-
-void computeToCompute(VkCommandBuffer cmd) {
-  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
 }  // namespace
@@ -36,107 +34,115 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
     : context_(context),
       scene_(scene),
       gpuScene_(gpuScene),
-      targets_(std::make_unique<RenderTargets>(context, width, height)),
+      images_(std::make_unique<FrameImages>(context, width, height)),
       gbuffer_(context, scene, gpuScene),
-      postProcess_(context, width, height),
-      hybrid_(context, gpuScene, width, height),
-      reference_(context, gpuScene),
-      tonemap_(context),
+      postProcess_(context),
+      hybrid_(context, gpuScene),
+      rayTrace_(context, "reference.comp", &gpuScene.setLayout()),
+      tonemap_(context, "tonemap.comp"),
       frameUniforms_(context, sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                      gpu::MemoryUse::Upload, "frame uniforms"),
       timer_(context),
       commandBuffer_(context.allocateCommandBuffer()),
       fence_(gpu::createFence(context)) {
-  gbuffer_.bindTargets(*targets_);
+  gbuffer_.bindImages(images_->gbuffer, width, height);
+  // Every mode and a debug view recorded once, not submitted: a binding that does not match its
+  // shader is an error now rather than on a client's first frame in that mode.
+  VK_CHECK(vkBeginCommandBuffer(commandBuffer_, &kOneTimeSubmit));
+  FrameRequest request;
+  request.settings.width = width;
+  request.settings.height = height;
+  gpu::FrameUniforms uniforms = makeFrameUniforms(scene, request.camera, request.lens, request.settings);
+  for (RenderMode mode : {RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::Hybrid,
+                          RenderMode::RayTrace}) {
+    request.mode = mode;
+    timer_.reset(commandBuffer_);
+    record(commandBuffer_, request, uniforms, {});
+  }
+  request.view = DebugView::Mask;
+  timer_.reset(commandBuffer_);
+  record(commandBuffer_, request, uniforms, {});
+  VK_CHECK(vkEndCommandBuffer(commandBuffer_));
+  VK_CHECK(vkResetCommandBuffer(commandBuffer_, 0));
 }
 
 FramePipeline::~FramePipeline() { vkDeviceWaitIdle(context_.device()); }
 
 void FramePipeline::resize(uint32_t width, uint32_t height) {
-  if (width == targets_->width && height == targets_->height) return;
+  if (width == images_->width && height == images_->height) return;
   VK_CHECK(vkQueueWaitIdle(context_.queue()));
-  targets_.reset();
-  targets_ = std::make_unique<RenderTargets>(context_, width, height);
-  gbuffer_.bindTargets(*targets_);
-  postProcess_.resize(width, height);
-  hybrid_.resize(width, height);
+  images_.reset();
+  images_ = std::make_unique<FrameImages>(context_, width, height);
+  gbuffer_.bindImages(images_->gbuffer, width, height);
+  hybrid_.resetHistory();
   accumulation_.valid = false;
   readback_ = gpu::Buffer();
   previousViewProj_.reset();
 }
 
-FrameStats FramePipeline::render(const FrameRequest& request) {
-  if (request.settings.width != targets_->width || request.settings.height != targets_->height)
-    throw std::logic_error("FramePipeline::render: request size differs from the targets");
-  gpu::FrameUniforms uniforms =
-      makeFrameUniforms(scene_, request.camera, request.lens, request.settings);
-  uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
-  previousViewProj_ = uniforms.viewProj;
-  std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
-
-  VkCommandBuffer cmd = commandBuffer_;
-  VK_CHECK(vkResetCommandBuffer(cmd, 0));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  VK_CHECK(vkBeginCommandBuffer(cmd, &begin));
-  timer_.reset(cmd);
-  // The previous frame's writes (same targets) are done and visible before this one starts.
-  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
-                     VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                     VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
-
-  const gpu::Image* radiance = &targets_->color;
+void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
+                           const gpu::FrameUniforms& uniforms, const gpu::RayTraceRays& rays) {
+  StepRecorder steps(cmd, timer_, frameUniforms_, gpuScene_);
+  const FrameImages& im = *images_;
+  const gpu::Image* radiance = &im.accumulation;
   switch (request.mode) {
     case RenderMode::Pinhole:
     case RenderMode::PostProcess:
     case RenderMode::Hybrid:
-      timer_.begin(cmd, "visibility");
-      gbuffer_.recordVisibility(cmd, frameUniforms_, *targets_);
-      timer_.end(cmd);
-      timer_.begin(cmd, "gbuffer");
-      gbuffer_.recordResolve(cmd, frameUniforms_, *targets_);
-      timer_.end(cmd);
+      gbuffer_.record(steps, im.gbuffer, uniforms.viewProj);
+      radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
-        postProcess_.record(cmd, timer_, frameUniforms_, *targets_);
-        radiance = &postProcess_.output();
+        postProcess_.record(steps, im.gbuffer, im.dof);
+        radiance = &im.dof.output;
       }
       if (request.mode == RenderMode::Hybrid) {
-        hybrid_.record(cmd, timer_, frameUniforms_, *targets_, postProcess_.output(), request.view,
-                       request.traceEverywhere);
-        radiance = &hybrid_.output();
+        hybrid_.record(steps, im, request.view, request.traceEverywhere);
+        radiance = &im.hybrid.output;
       }
       break;
     case RenderMode::RayTrace:
-    case RenderMode::Reference: {
-      uint32_t firstSample = request.firstSample;
-      bool accumulate = request.accumulate;
-      if (request.mode == RenderMode::RayTrace) {
-        bool keep = accumulation_.valid && accumulation_.mode == RenderMode::RayTrace &&
-                    accumulation_.raysPerFrame == request.settings.samplesPerPixel &&
-                    sameView(accumulation_.camera, request.camera) &&
-                    sameLens(accumulation_.lens, request.lens);
-        firstSample = keep ? accumulation_.samples : 0;
-        accumulate = keep;
-      }
-      timer_.begin(cmd, modeName(request.mode));
-      uint32_t sequence = request.mode == RenderMode::Reference ? 0 : 1;
-      reference_.record(cmd, frameUniforms_, *targets_,
-                        {firstSample, request.settings.samplesPerPixel, accumulate, sequence});
-      timer_.end(cmd);
-      computeToCompute(cmd);
-      radiance = &targets_->accumulation;
-      accumulation_ = {true,
-                       request.mode,
-                       request.camera,
-                       request.lens,
-                       request.settings.samplesPerPixel,
-                       (accumulate ? accumulation_.samples : 0) + request.settings.samplesPerPixel};
+    case RenderMode::Reference:
+      steps.dispatch(rayTrace_, {{"accumulation", im.accumulation}}, gpu::Grid::over(im.accumulation),
+                     rays, modeName(request.mode));
       break;
-    }
   }
-  timer_.begin(cmd, "tonemap");
-  tonemap_.record(cmd, frameUniforms_, *radiance, *targets_);
-  timer_.end(cmd);
+  steps.dispatch(tonemap_, {{"radiance", *radiance}, {"display", im.display}},
+                 gpu::Grid::over(im.display));
+  steps.step("readback", [&](VkCommandBuffer cmd) {
+    gpu::copyImageToBuffer(cmd, im.display, im.readback);
+  });
+}
+
+FrameStats FramePipeline::render(const FrameRequest& request) {
+  if (request.settings.width != images_->width || request.settings.height != images_->height)
+    throw std::logic_error("FramePipeline::render: request size differs from the images");
+  gpu::FrameUniforms uniforms =
+      makeFrameUniforms(scene_, request.camera, request.lens, request.settings);
+  uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
+  std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
+
+  // raytrace accumulates while the camera and lens stay the same and starts over when they
+  // change; reference does as the request says.
+  gpu::RayTraceRays rays{request.firstSample, request.settings.samplesPerPixel,
+                         request.accumulate ? 1u : 0u, gpu::kSequenceReference};
+  if (request.mode == RenderMode::RayTrace) {
+    bool keep = accumulation_.valid && accumulation_.mode == RenderMode::RayTrace &&
+                accumulation_.raysPerFrame == request.settings.samplesPerPixel &&
+                sameView(accumulation_.camera, request.camera) &&
+                sameLens(accumulation_.lens, request.lens);
+    rays = {keep ? accumulation_.samples : 0, request.settings.samplesPerPixel, keep ? 1u : 0u,
+            gpu::kSequenceRayTrace};
+  }
+
+  VkCommandBuffer cmd = commandBuffer_;
+  VK_CHECK(vkResetCommandBuffer(cmd, 0));
+  VK_CHECK(vkBeginCommandBuffer(cmd, &kOneTimeSubmit));
+  timer_.reset(cmd);
+  // The previous frame's writes (same images) are done and visible before this one starts.
+  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                     VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                     VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+  record(cmd, request, uniforms, rays);
   VK_CHECK(vkEndCommandBuffer(cmd));
 
   auto start = std::chrono::steady_clock::now();
@@ -149,13 +155,21 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.passMs = timer_.results();
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
-  if (request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference) {
+
+  previousViewProj_ = uniforms.viewProj;
+  bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
+  if (rayTraced) {
+    accumulation_ = {true, request.mode, request.camera, request.lens,
+                     request.settings.samplesPerPixel,
+                     (rays.accumulate ? accumulation_.samples : 0) + rays.sampleCount};
     stats.accumulatedSamples = accumulation_.samples;
     stats.raysShot = uint64_t(width()) * height() * request.settings.samplesPerPixel;
   }
   if (request.mode == RenderMode::Hybrid) {
-    stats.maskCoverage = hybrid_.maskCoverage();
-    stats.raysShot = hybrid_.raysShot();
+    hybrid_.advance();
+    gpu::RayWorkHeader header = readWorkHeader(images_->mask);
+    stats.maskCoverage = double(header.count) / (double(width()) * height());
+    stats.raysShot = header.rays;
   }
   return stats;
 }
@@ -181,8 +195,8 @@ FrameStats FramePipeline::renderReference(FrameRequest request, uint32_t raysPer
   return total;
 }
 
-const void* FramePipeline::readTarget(const gpu::Image& image, uint32_t bytesPerPixel) {
-  VkDeviceSize bytes = VkDeviceSize(targets_->width) * targets_->height * bytesPerPixel;
+const void* FramePipeline::readImage(const gpu::Image& image, uint32_t bytesPerPixel) {
+  VkDeviceSize bytes = VkDeviceSize(image.width()) * image.height() * bytesPerPixel;
   if (readback_.size() < bytes)
     readback_ = gpu::Buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                             gpu::MemoryUse::Readback, "target readback");
@@ -192,25 +206,25 @@ const void* FramePipeline::readTarget(const gpu::Image& image, uint32_t bytesPer
 }
 
 std::vector<float> FramePipeline::linearDepth() {
-  const auto* texels = static_cast<const glm::vec4*>(readTarget(targets_->normalDepth, 16));
-  std::vector<float> depth(size_t(targets_->width) * targets_->height);
+  const auto* texels = static_cast<const glm::vec4*>(readImage(images_->gbuffer.normalDepth, 16));
+  std::vector<float> depth(size_t(images_->width) * images_->height);
   for (size_t i = 0; i < depth.size(); ++i) depth[i] = texels[i].w;
   return depth;
 }
 
 std::vector<glm::vec2> FramePipeline::motionVectors() {
-  const auto* texels = static_cast<const uint32_t*>(readTarget(targets_->motion, 4));
-  std::vector<glm::vec2> motion(size_t(targets_->width) * targets_->height);
+  const auto* texels = static_cast<const uint32_t*>(readImage(images_->gbuffer.motion, 4));
+  std::vector<glm::vec2> motion(size_t(images_->width) * images_->height);
   for (size_t i = 0; i < motion.size(); ++i) motion[i] = glm::unpackHalf2x16(texels[i]);
   return motion;
 }
 
 ImageRgba8 FramePipeline::image() const {
   ImageRgba8 image;
-  image.width = targets_->width;
-  image.height = targets_->height;
+  image.width = images_->width;
+  image.height = images_->height;
   image.pixels.resize(size_t(image.width) * image.height * 4);
-  std::memcpy(image.pixels.data(), targets_->readback.mapped(), image.pixels.size());
+  std::memcpy(image.pixels.data(), images_->readback.mapped(), image.pixels.size());
   return image;
 }
 

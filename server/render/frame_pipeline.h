@@ -1,16 +1,15 @@
-// One session's frame pipeline: the passes of DESIGN.md strung together for a mode, rendering
-// into the session's targets. Synchronous: render() returns when the frame is on the CPU.
+// One session's frame pipeline: the passes strung together for a mode (docs/design.md lists them),
+// rendering into the session's images. Synchronous: render() returns when the frame is on the
+// CPU.
 #pragma once
 
-#include "gpu/timestamps.h"
 #include "image/image.h"
 #include "render/camera.h"
+#include "render/frame_images.h"
 #include "render/gbuffer_pass.h"
 #include "render/hybrid_dof.h"
 #include "render/modes.h"
 #include "render/postprocess_dof.h"
-#include "render/reference_pass.h"
-#include "render/tonemap_pass.h"
 
 #include <functional>
 #include <memory>
@@ -55,20 +54,27 @@ class FramePipeline {
   FramePipeline(const FramePipeline&) = delete;
   FramePipeline& operator=(const FramePipeline&) = delete;
 
-  // Renders one frame (request.settings' size must match the targets; see resize()).
+  // Renders one frame (request.settings' size must match the images; see resize()).
   FrameStats render(const FrameRequest& request);
   // Renders `reference` with raysPerPixel rays per pixel in submissions of about a million rays
   // (short enough for any driver's watchdog); onProgress(rays per pixel done) after each.
   FrameStats renderReference(FrameRequest request, uint32_t raysPerPixel,
                              const std::function<void(uint32_t)>& onProgress = {});
+  // Remakes the images for a new viewport (waits for the GPU first); the history starts over.
   void resize(uint32_t width, uint32_t height);
   // Forgets the temporal history: the next raytrace frame starts a new accumulation.
   void resetHistory() {
     accumulation_.valid = false;
     hybrid_.resetHistory();
   }
-  uint32_t width() const { return targets_->width; }
-  uint32_t height() const { return targets_->height; }
+  uint32_t width() const { return images_->width; }
+  uint32_t height() const { return images_->height; }
+  // The images of the last frame (for tests and debugging).
+  const FrameImages& images() const { return *images_; }
+  // The hybrid's temporal history as the last frame left it.
+  const HybridImages::History& hybridHistory() const {
+    return images_->hybrid.history[hybrid_.current()];
+  }
   // The last rendered frame, tonemapped.
   ImageRgba8 image() const;
   // Linear view depth (metres, kBackgroundDepth where nothing is) of the last frame that ran
@@ -83,12 +89,12 @@ class FramePipeline {
   const gpu::Context& context_;
   const Scene& scene_;
   const GpuScene& gpuScene_;
-  std::unique_ptr<RenderTargets> targets_;
+  std::unique_ptr<FrameImages> images_;
   GBufferPass gbuffer_;
   PostProcessDof postProcess_;
   HybridDof hybrid_;
-  ReferencePass reference_;
-  TonemapPass tonemap_;
+  gpu::ComputeProgram rayTrace_;  // reference and raytrace
+  gpu::ComputeProgram tonemap_;
   gpu::Buffer frameUniforms_;
   gpu::GpuTimer timer_;
   VkCommandBuffer commandBuffer_ = VK_NULL_HANDLE;
@@ -96,8 +102,12 @@ class FramePipeline {
   gpu::Buffer readback_;  // for linearDepth() and motionVectors()
   std::optional<glm::mat4> previousViewProj_;
 
-  // The bytes of a render target (tightly packed rows), after the GPU is idle.
-  const void* readTarget(const gpu::Image& image, uint32_t bytesPerPixel);
+  // Records request's frame; changes no state, so that recording every mode once at start-up
+  // checks every step's bindings against its shader.
+  void record(VkCommandBuffer cmd, const FrameRequest& request, const gpu::FrameUniforms& uniforms,
+              const gpu::RayTraceRays& rays);
+  // The bytes of an image (tightly packed rows), after the GPU is idle.
+  const void* readImage(const gpu::Image& image, uint32_t bytesPerPixel);
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {

@@ -74,24 +74,19 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
   return gpu::RenderPass(context.device(), renderPass);
 }
 
+const std::array<gpu::ShaderInterface, 2> kRasterStages = {
+    gpu::reflectShader(embeddedShader("gbuffer.vert")),
+    gpu::reflectShader(embeddedShader("gbuffer.frag"))};
+
 }  // namespace
 
 GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, const GpuScene& scene)
     : context_(context),
       scene_(scene),
       runs_(buildTriangleRuns(cpuScene)),
-      resolve_(gpu::createComputePipeline(context, "gbuffer_resolve.comp", scene.setLayout(),
-                                          {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-                                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE}})) {
-  renderPass_ = createRenderPass(context);
-  passSetLayout_ = gpu::createSetLayout(context, {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER}}, true,
-                                        "gbuffer pass set");
-  layout_ = gpu::createPipelineLayout(context, {scene.setLayout(), passSetLayout_}, 0);
-
+      renderPass_(createRenderPass(context)),
+      layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
+      resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()) {
   gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
   gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
   VkPipelineShaderStageCreateInfo stages[2] = {};
@@ -153,7 +148,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
   info.pDepthStencilState = &depth;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = layout_;
+  info.layout = layout_.get();
   info.renderPass = renderPass_;
   VkPipeline pipeline = VK_NULL_HANDLE;
   VK_CHECK(
@@ -162,62 +157,56 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
   pipeline_ = gpu::Pipeline(context.device(), pipeline);
 }
 
-void GBufferPass::bindTargets(const RenderTargets& targets) {
-  VkImageView views[] = {targets.visibility.view(), targets.depth.view()};
+void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32_t height) {
+  VkImageView views[] = {images.visibility.view(), images.depth.view()};
   VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
   info.renderPass = renderPass_;
   info.attachmentCount = std::size(views);
   info.pAttachments = views;
-  info.width = targets.width;
-  info.height = targets.height;
+  info.width = width;
+  info.height = height;
   info.layers = 1;
   VkFramebuffer framebuffer = VK_NULL_HANDLE;
   VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
   framebuffer_ = gpu::Framebuffer(context_.device(), framebuffer);
+  extent_ = {width, height};
 }
 
-void GBufferPass::recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                                   const RenderTargets& targets) const {
-  VkClearValue clears[2] = {};
-  clears[0].color.uint32[0] = kNoTriangle;
-  clears[1].depthStencil = {1.0f, 0};
-  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = renderPass_;
-  begin.framebuffer = framebuffer_;
-  begin.renderArea = {{0, 0}, {targets.width, targets.height}};
-  begin.clearValueCount = 2;
-  begin.pClearValues = clears;
-  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-  VkViewport viewport{0.0f, 0.0f, float(targets.width), float(targets.height), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {targets.width, targets.height}};
-  vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &scissor);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
-  scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_);
-  gpu::DescriptorWriter()
-      .uniformBuffer(gpu::kBindingFrame, frameUniforms)
-      .push(context_, cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_, gpu::kPassSet);
-  VkBuffer corners = scene_.cornerBuffer().get();
-  VkDeviceSize offset = 0;
-  vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
-  const auto* uniforms = static_cast<const gpu::FrameUniforms*>(frameUniforms.mapped());
-  for (const TriangleRange& range : visibleTriangles(runs_, uniforms->viewProj))
-    vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
-  vkCmdEndRenderPass(cmd);
-}
-
-void GBufferPass::recordResolve(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                                const RenderTargets& targets) const {
-  scene_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout);
-  gpu::dispatchCompute(context_, cmd, resolve_,
-                       gpu::DescriptorWriter()
-                           .uniformBuffer(gpu::kBindingFrame, frameUniforms)
-                           .storageImage(1, targets.visibility)
-                           .storageImage(2, targets.color)
-                           .storageImage(3, targets.specular)
-                           .storageImage(4, targets.normalDepth)
-                           .storageImage(5, targets.motion),
-                       targets.width, targets.height);
+void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
+                         const glm::mat4& viewProj) const {
+  steps.step("visibility", [&](VkCommandBuffer cmd) {
+    VkClearValue clears[2] = {};
+    clears[0].color.uint32[0] = kNoTriangle;
+    clears[1].depthStencil = {1.0f, 0};
+    VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    begin.renderPass = renderPass_;
+    begin.framebuffer = framebuffer_;
+    begin.renderArea = {{0, 0}, extent_};
+    begin.clearValueCount = 2;
+    begin.pClearValues = clears;
+    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+    VkViewport viewport{0.0f, 0.0f, float(extent_.width), float(extent_.height), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, extent_};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
+    if (layout_.readsScene()) scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get());
+    gpu::Bind frame("Frame", steps.frameUniforms());
+    layout_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, std::span(&frame, 1), {});
+    VkBuffer corners = scene_.cornerBuffer().get();
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
+    for (const TriangleRange& range : visibleTriangles(runs_, viewProj))
+      vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
+    vkCmdEndRenderPass(cmd);
+  });
+  steps.dispatch(resolve_,
+                 {{"visibility", images.visibility},
+                  {"outColor", images.color},
+                  {"outSpecular", images.specular},
+                  {"outNormalDepth", images.normalDepth},
+                  {"outMotion", images.motion}},
+                 gpu::Grid::over(images.color), {}, "gbuffer");
 }
 
 }  // namespace hdof

@@ -1,12 +1,12 @@
-// Pass 1, the G-buffer, in two stages: a raster visibility pass writes the triangle seen at each
-// pixel centre, then a compute resolve shades that point once per pixel with the shading code the
-// ray tracer uses, into colour, specular and normal/depth targets.
+// The G-buffer, in two steps: a raster visibility pass (shaders/gbuffer.vert, .frag) writes the
+// triangle seen at each pixel centre, then a compute resolve (gbuffer_resolve.comp) shades that
+// point once per pixel with the shading code the ray tracer uses, into colour, specular,
+// normal/depth and motion.
 #pragma once
 
-#include "gpu/pipeline.h"
+#include "render/frame_images.h"
 #include "render/raster_culling.h"
-#include "render/render_targets.h"
-#include "scene/gpu_scene.h"
+#include "render/steps.h"
 
 namespace hdof {
 
@@ -14,13 +14,11 @@ class GBufferPass {
  public:
   GBufferPass(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene);
 
-  // Makes the framebuffer for a new set of targets (call after they change).
-  void bindTargets(const RenderTargets& targets);
-  // The raster visibility stage, then the compute resolve (timed separately by the caller).
-  void recordVisibility(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                        const RenderTargets& targets) const;
-  void recordResolve(VkCommandBuffer cmd, const gpu::Buffer& frameUniforms,
-                     const RenderTargets& targets) const;
+  // Makes the framebuffer for a new set of images (call after they change).
+  void bindImages(const GBufferImages& images, uint32_t width, uint32_t height);
+  // The steps "visibility" and "gbuffer" (the resolve). viewProj: the frame uniforms', for
+  // culling on the CPU.
+  void record(StepRecorder& steps, const GBufferImages& images, const glm::mat4& viewProj) const;
 
  private:
   const gpu::Context& context_;
@@ -28,10 +26,10 @@ class GBufferPass {
   std::vector<TriangleRun> runs_;
   gpu::RenderPass renderPass_;
   gpu::Framebuffer framebuffer_;
-  gpu::DescriptorSetLayout passSetLayout_;
-  gpu::PipelineLayout layout_;
+  VkExtent2D extent_{};
+  gpu::ProgramLayout layout_;
   gpu::Pipeline pipeline_;
-  gpu::ComputePipeline resolve_;
+  gpu::ComputeProgram resolve_;
 };
 
 }  // namespace hdof

@@ -1,77 +1,94 @@
 #include "render/hybrid_dof.h"
 
 namespace hdof {
-namespace {
 
-std::unique_ptr<gpu::Image> makeOutput(const gpu::Context& context, uint32_t w, uint32_t h) {
-  return gpu::createGeneralImage2D(context, w, h, VK_FORMAT_R16G16B16A16_SFLOAT,
-                                   VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                                   "hybrid output");
+using gpu::Grid;
+
+HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
+    : mask_(context),
+      trace_(context, "hybrid_trace.comp", &scene.setLayout()),
+      temporal_(context, "hybrid_temporal.comp"),
+      spatial_(context, "hybrid_spatial.comp"),
+      composite_(context, "hybrid_composite.comp"),
+      debugView_(context, "debug_view.comp") {}
+
+void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView view,
+                       bool traceEverywhere) const {
+  const GBufferImages& g = images.gbuffer;
+  const RayMaskImages& m = images.mask;
+  const HybridImages& h = images.hybrid;
+  const HybridImages::History& previous = h.history[current_];
+  const HybridImages::History& next = h.history[current_ ^ 1u];
+
+  mask_.record(steps, g, m, hasHistory_ ? &h.variance : nullptr, traceEverywhere);
+  // The work list starts with a VkDispatchIndirectCommand sized to its entries.
+  steps.dispatch(trace_,
+                 {{"workList", m.workList},
+                  {"nearLayer", h.nearLayer},
+                  {"farLayer", h.farLayer},
+                  {"farPosition", h.farPosition},
+                  {"layerCoc", h.layerCoc},
+                  {"samplesTraced", h.samplesTraced}},
+                 Grid::indirect(m.workList));
+  // Pixels the mask left out this frame drop their history: the pass writes listed pixels only.
+  steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
+    gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
+  });
+  struct {
+    uint32_t reset;   // a cut or the first frame: no history at all
+    float minBlend;   // the moving average's weight of the new frame once history is long
+  } temporalPush{hasHistory_ ? 0u : 1u, 0.1f};
+  steps.dispatch(temporal_,
+                 {{"rays", m.rays},
+                  {"nearLayer", h.nearLayer},
+                  {"farLayer", h.farLayer},
+                  {"farPosition", h.farPosition},
+                  {"motion", g.motion},
+                  {"normalDepth", g.normalDepth},
+                  {"historyNear", previous.nearLayer},
+                  {"historyFar", previous.farLayer},
+                  {"historyMoments", previous.moments},
+                  {"workList", m.workList},
+                  {"outNear", next.nearLayer},
+                  {"outFar", next.farLayer},
+                  {"outMoments", next.moments},
+                  {"outVariance", h.variance}},
+                 Grid::indirect(m.workList), temporalPush);
+  steps.dispatch(spatial_,
+                 {{"workList", m.workList},
+                  {"rays", m.rays},
+                  {"layerCoc", h.layerCoc},
+                  {"historyNear", next.nearLayer},
+                  {"historyFar", next.farLayer},
+                  {"historyMoments", next.moments},
+                  {"variance", h.variance},
+                  {"outNear", h.reconstructedNear},
+                  {"outFar", h.reconstructedFar}},
+                 Grid::indirect(m.workList));
+  if (view == DebugView::Final) {
+    steps.dispatch(composite_,
+                   {{"rays", m.rays},
+                    {"sharp", g.color},
+                    {"specular", g.specular},
+                    {"normalDepth", g.normalDepth},
+                    {"postProcess", images.dof.output},
+                    {"historyNear", h.reconstructedNear},
+                    {"historyFar", h.reconstructedFar},
+                    {"outColor", h.output}},
+                   Grid::over(h.output));
+  } else {
+    steps.dispatch(debugView_,
+                   {{"rays", m.rays},
+                    {"normalDepth", g.normalDepth},
+                    {"historyNear", h.reconstructedNear},
+                    {"historyFar", h.reconstructedFar},
+                    {"outColor", h.output}},
+                   Grid::over(h.output), static_cast<uint32_t>(view), "hybrid_composite");
+  }
 }
 
-void computeToCompute(VkCommandBuffer cmd) {
-  gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-}
-
-}  // namespace
-
-HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene, uint32_t width,
-                     uint32_t height)
-    : context_(context),
-      mask_(context, width, height),
-      layers_(std::make_unique<HybridTraceLayers>(context, width, height)),
-      trace_(context, scene),
-      temporal_(context, width, height),
-      spatial_(context, width, height),
-      composite_(context),
-      debugView_(context),
-      output_(makeOutput(context, width, height)) {}
-
-HybridDof::~HybridDof() = default;
-
-void HybridDof::resize(uint32_t width, uint32_t height) {
-  if (width == output_->width() && height == output_->height()) return;
-  VK_CHECK(vkQueueWaitIdle(context_.queue()));
-  mask_.resize(width, height);
-  layers_ = std::make_unique<HybridTraceLayers>(context_, width, height);
-  temporal_.resize(width, height);
-  spatial_.resize(width, height);
-  output_ = makeOutput(context_, width, height);
-  hasHistory_ = false;
-}
-
-void HybridDof::record(VkCommandBuffer cmd, gpu::GpuTimer& timer, const gpu::Buffer& frameUniforms,
-                       const RenderTargets& targets, const gpu::Image& postProcess, DebugView view,
-                       bool traceEverywhere) {
-  computeToCompute(cmd);
-  mask_.record(cmd, timer, frameUniforms, targets, hasHistory_ ? &temporal_.variance() : nullptr,
-               traceEverywhere);
-  timer.begin(cmd, "hybrid_trace");
-  trace_.record(cmd, frameUniforms, mask_.workList(), *layers_);
-  timer.end(cmd);
-  computeToCompute(cmd);
-  timer.begin(cmd, "hybrid_temporal");
-  temporal_.record(cmd, frameUniforms, mask_.rays(), mask_.workList(), *layers_, targets,
-                   !hasHistory_);
-  timer.end(cmd);
-  computeToCompute(cmd);
-  timer.begin(cmd, "hybrid_spatial");
-  spatial_.record(cmd, frameUniforms, mask_.workList(), mask_.rays(), *layers_, temporal_);
-  timer.end(cmd);
-  computeToCompute(cmd);
-  timer.begin(cmd, "hybrid_composite");
-  const gpu::Image& nearLayer = spatial_.nearLayer();
-  const gpu::Image& farLayer = spatial_.farLayer();
-  if (view == DebugView::Final)
-    composite_.record(cmd, frameUniforms, mask_.rays(), targets, postProcess, nearLayer, farLayer,
-                      *output_);
-  else
-    debugView_.record(cmd, frameUniforms, view, mask_.rays(), targets, nearLayer, farLayer,
-                      *output_);
-  timer.end(cmd);
-  computeToCompute(cmd);
+void HybridDof::advance() {
+  current_ ^= 1u;
   hasHistory_ = true;
 }
 

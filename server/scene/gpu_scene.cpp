@@ -169,9 +169,10 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
                 gpu::kBindingMaterials == 2 && gpu::kBindingLights == 3 &&
                 gpu::kBindingBvhNodes == 4 && gpu::kBindingBvhTriangles == 5 &&
                 gpu::kBindingTextures == 6);
-  setLayout_ = gpu::createSetLayout(
-      context, {{kTexels}, {kTexels}, {kTexels}, {kBuffer}, {kTexels}, {kTexels}, {kSampled}},
-      false, "scene set");
+  std::vector<VkDescriptorSetLayoutBinding> bindings;
+  for (VkDescriptorType type : {kTexels, kTexels, kTexels, kBuffer, kTexels, kTexels, kSampled})
+    bindings.push_back({uint32_t(bindings.size()), type, 1, gpu::kAllShaderStages, nullptr});
+  setLayout_ = gpu::createSetLayout(context, std::move(bindings), false, "scene set");
   VkDescriptorPoolSize sizes[] = {{kBuffer, 1}, {kTexels, 5}, {kSampled, 1}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
@@ -183,7 +184,7 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
   allocInfo.descriptorPool = pool_;
   allocInfo.descriptorSetCount = 1;
-  VkDescriptorSetLayout layout = setLayout_;
+  VkDescriptorSetLayout layout = setLayout_.handle;
   allocInfo.pSetLayouts = &layout;
   VK_CHECK(vkAllocateDescriptorSets(context.device(), &allocInfo, &descriptorSet_));
 

@@ -2,7 +2,7 @@
 // shared by every pass and every session.
 #pragma once
 
-#include "gpu/pipeline.h"
+#include "gpu/program.h"
 #include "scene/bvh.h"
 #include "scene/scene.h"
 
@@ -12,7 +12,8 @@ class GpuScene {
  public:
   GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& bvh);
 
-  VkDescriptorSetLayout setLayout() const { return setLayout_; }
+  // Set 0 of every program that reads the scene (shaders/lib/scene.glsl declares it).
+  const gpu::SetLayout& setLayout() const { return setLayout_; }
   VkDescriptorSet descriptorSet() const { return descriptorSet_; }
   // Binds descriptor set 0 for a pipeline whose layout starts with setLayout().
   void bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint, VkPipelineLayout layout) const;
@@ -25,7 +26,7 @@ class GpuScene {
   gpu::Buffer corners_, lights_;
   gpu::Image textures_;  // a 2D array, one layer per scene texture
   gpu::Sampler sampler_;
-  gpu::DescriptorSetLayout setLayout_;
+  gpu::SetLayout setLayout_;
   gpu::DescriptorPool pool_;
   VkDescriptorSet descriptorSet_ = VK_NULL_HANDLE;
 };

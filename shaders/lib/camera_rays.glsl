@@ -7,21 +7,21 @@
 // Direction through the camera centre for image position `pixel` (pixels, y down; pixel centres
 // at +0.5); its component along the view axis is 1.
 vec3 pinholeDirection(vec2 pixel) {
-  vec2 ndc = pixel / vec2(frame.image.xy) * 2.0 - 1.0;
-  return frame.forward.xyz + ndc.x * frame.right.w * frame.right.xyz -
-         ndc.y * frame.eye.w * frame.up.xyz;
+  vec2 ndc = pixel / vec2(frame.imageSize) * 2.0 - 1.0;
+  return frame.forward + ndc.x * frame.tanHalfFovX * frame.right -
+         ndc.y * frame.tanHalfFovY * frame.up;
 }
 
 // A point of the aperture from a point of the unit square, uniform over its area: the unit disc,
 // or with blades a regular polygon inscribed in it with one vertex at the blade rotation
 // (counter-clockwise from the camera's right). The post-process kernel uses the same polygon.
 vec2 apertureSample(vec2 u) {
-  float blades = frame.lens.w;
+  float blades = frame.bladeCount;
   if (blades < 3.0) return concentricDisc(u);
-  float sector = 6.28318530717959 / blades;
+  float sector = 2.0 * kPi / blades;
   float scaled = u.x * blades;
   float k = min(floor(scaled), blades - 1.0);
-  float a = frame.lensShape.x + k * sector;
+  float a = frame.bladeRotation + k * sector;
   vec2 v0 = vec2(cos(a), sin(a)), v1 = vec2(cos(a + sector), sin(a + sector));
   // Uniform in the triangle (centre, v0, v1): the square root spreads the radius by area.
   float radial = sqrt(scaled - k);
@@ -30,9 +30,9 @@ vec2 apertureSample(vec2 u) {
 
 // lensSample: a point of the unit disc (see apertureSample). Writes the ray origin; returns the unit direction.
 vec3 thinLensRay(vec2 pixel, vec2 lensSample, out vec3 origin) {
-  vec3 focusPoint = frame.eye.xyz + pinholeDirection(pixel) * frame.forward.w;
-  vec2 offset = lensSample * (0.5 * frame.up.w);
-  origin = frame.eye.xyz + offset.x * frame.right.xyz + offset.y * frame.up.xyz;
+  vec3 focusPoint = frame.eye + pinholeDirection(pixel) * frame.focusDistance;
+  vec2 offset = lensSample * apertureRadius();
+  origin = frame.eye + offset.x * frame.right + offset.y * frame.up;
   return normalize(focusPoint - origin);
 }
 

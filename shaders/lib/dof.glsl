@@ -6,7 +6,7 @@
 float saturate(float x) { return clamp(x, 0.0, 1.0); }
 
 float signedCoc(float linearDepth) {
-  float coc = signedCocPixels(linearDepth, frame.up.w, frame.forward.w, frame.lens.x);
+  float coc = pixelCoc(linearDepth);
   return clamp(coc, -kDofMaxCoc, kDofMaxCoc);
 }
 

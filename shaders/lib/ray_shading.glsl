@@ -16,14 +16,14 @@ RaySample traceCameraRay(vec3 origin, vec3 direction) {
   RayHit hit;
   bool overflowed;
   if (!traceClosest(origin, direction, 1e30, hit, overflowed)) {
-    result.radiance = frame.skyColor.rgb;
+    result.radiance = frame.skyColor;
     result.specular = vec3(0.0);
     result.distance = 1e30;
     result.position = origin + direction * 1e5;
     return result;
   }
   SurfacePoint s = surfaceOfTriangle(hit.triangle, hit.barycentrics);
-  float footprint = length(s.position - frame.eye.xyz) * pixelAngle();
+  float footprint = length(s.position - frame.eye) * pixelAngle();
   result.radiance = shadeSurface(s, -direction, footprint, result.specular);
   result.distance = hit.t;
   result.position = s.position;

@@ -1,6 +1,7 @@
 // Random numbers and sample patterns for the ray tracers.
 #ifndef HDOF_LIB_SAMPLING_GLSL
 #define HDOF_LIB_SAMPLING_GLSL
+#include "shared/math.h"
 
 uint pcgHash(uint v) {
   uint state = v * 747796405u + 2891336453u;
@@ -40,10 +41,10 @@ vec2 concentricDisc(vec2 u) {
   float r, phi;
   if (abs(p.x) > abs(p.y)) {
     r = p.x;
-    phi = (3.14159265358979 / 4.0) * (p.y / p.x);
+    phi = (kPi / 4.0) * (p.y / p.x);
   } else {
     r = p.y;
-    phi = (3.14159265358979 / 2.0) - (3.14159265358979 / 4.0) * (p.x / p.y);
+    phi = (kPi / 2.0) - (kPi / 4.0) * (p.x / p.y);
   }
   return r * vec2(cos(phi), sin(phi));
 }

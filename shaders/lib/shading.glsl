@@ -5,7 +5,6 @@
 #ifndef HDOF_LIB_SHADING_GLSL
 #define HDOF_LIB_SHADING_GLSL
 
-const float kPi = 3.14159265358979;
 
 struct SurfacePoint {
   vec3 position;
@@ -72,11 +71,11 @@ vec3 shadeSurface(SurfacePoint s, vec3 toViewer, float footprint, out vec3 specu
   vec3 diffuseColor = baseColor * (1.0 - m.metallic);
   vec3 f0 = mix(vec3(0.04), baseColor, m.metallic);
 
-  vec3 ambient = mix(frame.groundColor.rgb, frame.skyColor.rgb, n.y * 0.5 + 0.5);
+  vec3 ambient = mix(frame.groundColor, frame.skyColor, n.y * 0.5 + 0.5);
   vec3 diffuse = ambient * diffuseColor;
   specular = ambient * f0 * (1.0 - 0.5 * roughness);
 
-  for (uint i = 0; i < frame.options.x; ++i) {
+  for (uint i = 0; i < frame.lightCount; ++i) {
     Light light = lights[i];
     vec3 toLight;
     vec3 irradiance = light.color;

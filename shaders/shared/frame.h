@@ -13,21 +13,48 @@ HDOF_CONST uint kBindingFrame = 0;
 // Linear depth written where no surface is (the sky), in metres.
 HDOF_CONST float kBackgroundDepth = 1.0e5;
 
+// std140 and C++ agree without padding fields: every vec3 is followed by a scalar.
 struct FrameUniforms {
-  mat4 viewProj;  // world to clip, Vulkan conventions (y down, depth 0..1)
+  mat4 viewProj;          // world to clip, Vulkan conventions (y down, depth 0..1)
   mat4 previousViewProj;  // the previous frame's (this frame's after a cut): motion vectors
-  vec4 eye;       // xyz camera position, w tan(vertical fov / 2)
-  vec4 right;     // xyz unit right vector, w tan(horizontal fov / 2)
-  vec4 up;        // xyz unit up vector, w aperture diameter in metres (focal length / f-number)
-  vec4 forward;   // xyz unit view direction, w focus distance in metres
-  vec4 lens;  // x focal length in pixels (width / 2 tan(hfov/2)), y focal length (m), z f-number,
-              // w aperture blade count (0: circle)
-  vec4 lensShape;    // x blade rotation (radians), yzw unused
-  vec4 skyColor;     // ambient light from above (linear RGB), w exposure
-  vec4 groundColor;  // ambient light from below, w unused
-  uvec4 image;  // x width, y height, z frame index (for sampling sequences), w samples per pixel
-  // x light count, y pixel jitter on (1) or rays through pixel centres (0), zw unused
-  uvec4 options;
+  vec3 eye;               // camera position
+  float tanHalfFovY;
+  vec3 right;  // unit right vector
+  float tanHalfFovX;
+  vec3 up;                 // unit up vector
+  float apertureDiameter;  // metres: focal length / f-number
+  vec3 forward;            // unit view direction
+  float focusDistance;     // metres along forward
+  float focalLengthPixels;  // width / (2 tan(hfov / 2))
+  float focalLength;        // metres
+  float fNumber;
+  float bladeCount;     // aperture blades, 0: a circle
+  float bladeRotation;  // radians
+  float unused0, unused1, unused2;
+  vec3 skyColor;  // ambient light from above (linear RGB)
+  float exposure;
+  vec3 groundColor;  // ambient light from below
+  float unused3;
+  uvec2 imageSize;       // pixels
+  uint frameIndex;       // for sampling sequences
+  uint samplesPerPixel;  // rays per pixel this frame
+  uint lightCount;
+  uint pixelJitter;  // 1: rays jittered over the pixel, 0: through pixel centres
+  uint unused4, unused5;
+};
+
+// Which family of per-pixel sample sequences a ray tracer draws from (the salt of
+// pixelRotation4 in lib/sampling.glsl): modes never share rays.
+HDOF_CONST uint kSequenceReference = 0;
+HDOF_CONST uint kSequenceRayTrace = 1;
+HDOF_CONST uint kSequenceHybrid = 2;
+
+// Push constants of reference.comp (the reference and raytrace modes).
+struct RayTraceRays {
+  uint firstSample;  // number of the first ray of each pixel's sequence traced here
+  uint sampleCount;  // rays per pixel
+  uint accumulate;   // 1: add to the accumulation, 0: start a new sum
+  uint sequence;     // kSequence*
 };
 
 // Signed circle of confusion, in pixels, of a point at linear view depth z (metres along the view
@@ -50,7 +77,15 @@ HDOF_FN float cocOnSensor(float z, float focalLength, float fNumber, float focus
 HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
+#include <cstddef>
 static_assert(sizeof(hdof::gpu::FrameUniforms) == 2 * 64 + 10 * 16);
+static_assert(offsetof(hdof::gpu::FrameUniforms, tanHalfFovY) == 128 + 12);
+static_assert(offsetof(hdof::gpu::FrameUniforms, focusDistance) == 128 + 3 * 16 + 12);
+static_assert(offsetof(hdof::gpu::FrameUniforms, focalLengthPixels) == 128 + 4 * 16);
+static_assert(offsetof(hdof::gpu::FrameUniforms, exposure) == 128 + 6 * 16 + 12);
+static_assert(offsetof(hdof::gpu::FrameUniforms, imageSize) == 128 + 8 * 16);
+static_assert(offsetof(hdof::gpu::FrameUniforms, lightCount) == 128 + 9 * 16);
+static_assert(sizeof(hdof::gpu::RayTraceRays) == 16);
 #endif
 
 #endif

@@ -1,9 +1,6 @@
 // Temporal accumulation of the hybrid's ray-traced layers: history grows while the view rests,
 // the variance that drives the ray mask settles, and a cut starts over.
 #include "quality/occlusion_mask.h"
-#include "render/gbuffer_pass.h"
-#include "render/hybrid_temporal_pass.h"
-#include "render/ray_mask.h"
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
@@ -17,49 +14,30 @@ namespace {
 
 constexpr uint32_t kWidth = 160, kHeight = 90, kRaysPerPixel = 4;
 
-// The hybrid's passes up to the temporal accumulation, strung together by hand.
+// Hybrid frames of a still view, with the temporal history read back.
 struct TemporalRig {
   SceneOnGpu& scene = testScene("builtin:dof");
-  RenderTargets targets{testContext(), kWidth, kHeight};
-  GBufferPass gbuffer{testContext(), scene.scene, *scene.gpu};
-  RayMask mask{testContext(), kWidth, kHeight};
-  HybridTraceLayers layers{testContext(), kWidth, kHeight};
-  HybridTracePass trace{testContext(), *scene.gpu};
-  HybridTemporalPass temporal{testContext(), kWidth, kHeight};
-  gpu::Buffer uniforms{testContext(), sizeof(gpu::FrameUniforms),
-                       VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "uniforms"};
-  gpu::GpuTimer timer{testContext()};
+  FramePipeline pipeline{testContext(), scene.scene, *scene.gpu, kWidth, kHeight};
   uint32_t frame = 0;
 
-  TemporalRig() { gbuffer.bindTargets(targets); }
-
   void render(bool cut) {
-    Lens lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
-    FrameSettings settings{kWidth, kHeight, frame, kRaysPerPixel};
-    gpu::FrameUniforms u = makeFrameUniforms(
-        scene.scene, Camera::fromScene(scene.scene.cameras.front()), lens, settings);
-    std::memcpy(uniforms.mapped(), &u, sizeof(u));
-    testContext().submitAndWait([&](VkCommandBuffer cmd) {
-      timer.reset(cmd);
-      gbuffer.recordVisibility(cmd, uniforms, targets);
-      gbuffer.recordResolve(cmd, uniforms, targets);
-      gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-      mask.record(cmd, timer, uniforms, targets, frame > 0 ? &temporal.variance() : nullptr);
-      trace.record(cmd, uniforms, mask.workList(), layers);
-      gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-      temporal.record(cmd, uniforms, mask.rays(), mask.workList(), layers, targets,
-                      cut || frame == 0);
-    });
+    FrameRequest request;
+    request.mode = RenderMode::Hybrid;
+    request.camera = Camera::fromScene(scene.scene.cameras.front());
+    request.lens = Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+    request.settings = {kWidth, kHeight, frame, kRaysPerPixel};
+    if (cut) pipeline.resetHistory();
+    pipeline.render(request);
     ++frame;
   }
+  const HybridImages::History& history() const { return pipeline.hybridHistory(); }
+  const gpu::Image& variance() const { return pipeline.images().hybrid.variance; }
 };
 
 TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   TemporalRig rig;
   for (int i = 0; i < 3; ++i) rig.render(false);
-  std::vector<glm::vec4> moments = readImage(rig.temporal.current().moments);
+  std::vector<glm::vec4> moments = readImage(rig.history().moments);
   // The history counts rays: 1 to kRaysPerPixel a frame.
   int traced = 0, allAlong = 0;
   for (const glm::vec4& m : moments) {
@@ -72,14 +50,14 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   EXPECT_GT(traced, int(kWidth * kHeight / 20)) << "the mask traced something";
 
   for (int i = 0; i < 9; ++i) rig.render(false);
-  moments = readImage(rig.temporal.current().moments);
+  moments = readImage(rig.history().moments);
   int settled = 0, counted = 0;
   std::vector<float> variances;
   {
     gpu::Buffer buffer(testContext(), kWidth * kHeight * 2, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        gpu::MemoryUse::Readback, "variance");
     testContext().submitAndWait(
-        [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, rig.temporal.variance(), buffer); });
+        [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, rig.variance(), buffer); });
     const auto* halves = static_cast<const uint16_t*>(buffer.mapped());
     for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i)
       variances.push_back(glm::unpackHalf2x16(halves[i]).x);
@@ -93,7 +71,7 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   EXPECT_GT(settled, counted * 3 / 4) << "twelve frames in, most traced pixels are settled";
 
   rig.render(true);
-  moments = readImage(rig.temporal.current().moments);
+  moments = readImage(rig.history().moments);
   for (const glm::vec4& m : moments) {
     if (m.z > 0.0f) {
       ASSERT_LE(m.z, float(kRaysPerPixel)) << "a cut drops the history";

@@ -1,5 +1,6 @@
 // The selective ray trace: only listed pixels are traced; hits split into near and far layers.
-#include "render/hybrid_trace_pass.h"
+#include "render/frame_images.h"
+#include "render/steps.h"
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
@@ -20,8 +21,10 @@ struct TraceRig {
                        sizeof(gpu::RayWorkHeader) + kWidth* kHeight* gpu::kRayWorkEntrySize,
                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                        gpu::MemoryUse::Upload, "test work list"};
-  HybridTraceLayers layers{testContext(), kWidth, kHeight};
-  HybridTracePass pass{testContext(), *scene.gpu};
+  FrameImages images{testContext(), kWidth, kHeight};
+  const HybridImages& layers = images.hybrid;
+  gpu::ComputeProgram program{testContext(), "hybrid_trace.comp", &scene.gpu->setLayout()};
+  gpu::GpuTimer timer{testContext()};
 
   TraceRig() {
     Lens lens{100.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
@@ -50,7 +53,16 @@ struct TraceRig {
       }
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
-      pass.record(cmd, uniforms, workList, layers);
+      timer.reset(cmd);
+      StepRecorder steps(cmd, timer, uniforms, *scene.gpu);
+      steps.dispatch(program,
+                     {{"workList", workList},
+                      {"nearLayer", layers.nearLayer},
+                      {"farLayer", layers.farLayer},
+                      {"farPosition", layers.farPosition},
+                      {"layerCoc", layers.layerCoc},
+                      {"samplesTraced", layers.samplesTraced}},
+                     gpu::Grid::indirect(workList));
     });
   }
 };

@@ -19,28 +19,22 @@ namespace {
 
 constexpr uint32_t kSamplesPerPixel = 4;
 
-// The G-buffer and the ray mask strung together by hand, with depth, rays and the work list read
-// back.
+// The G-buffer and the ray mask recorded by hand (so that a test can give the mask its own
+// variance), with depth, rays and the work list read back.
 class RayMaskRig {
  public:
   RayMaskRig(const std::string& sceneSpec, uint32_t width, uint32_t height)
       : scene_(testScene(sceneSpec)),
-        targets_(testContext(), width, height),
+        images_(testContext(), width, height),
         gbuffer_(testContext(), scene_.scene, *scene_.gpu),
-        mask_(testContext(), width / 2 + 1, height / 2 + 1),
+        mask_(testContext()),
         uniformBuffer_(testContext(), sizeof(gpu::FrameUniforms),
                        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "test uniforms"),
-        depthReadback_(testContext(), pixelCount() * 16, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                       gpu::MemoryUse::Readback, "test normal depth"),
-        raysReadback_(testContext(), pixelCount(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                      gpu::MemoryUse::Readback, "test rays"),
+        listReadback_(testContext(), images_.mask.workList.size(),
+                      VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback,
+                      "test work list"),
         timer_(testContext()) {
-    gbuffer_.bindTargets(targets_);
-    // Made for another size, as a session's is before its viewport changes.
-    mask_.resize(width, height);
-    listReadback_ =
-        gpu::Buffer(testContext(), mask_.workList().size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                    gpu::MemoryUse::Readback, "test work list");
+    gbuffer_.bindImages(images_.gbuffer, width, height);
     camera_ = Camera::fromScene(scene_.scene.cameras.front());
     suggestedFocus_ = scene_.scene.cameras.front().focusDistance.value_or(5.0f);
   }
@@ -59,33 +53,32 @@ class RayMaskRig {
   Frame render(Lens lens, const gpu::Image* variance = nullptr) {
     if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
     FrameSettings settings;
-    settings.width = targets_.width;
-    settings.height = targets_.height;
+    settings.width = width();
+    settings.height = height();
     settings.samplesPerPixel = kSamplesPerPixel;
     gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
     std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
-      gbuffer_.recordVisibility(cmd, uniformBuffer_, targets_);
-      gbuffer_.recordResolve(cmd, uniformBuffer_, targets_);
+      timer_.reset(cmd);
+      StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
+      gbuffer_.record(steps, images_.gbuffer, uniforms.viewProj);
     });
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
-      mask_.record(cmd, timer_, uniformBuffer_, targets_, variance);
+      StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
+      mask_.record(steps, images_.gbuffer, images_.mask, variance);
     });
     Frame frame;
     frame.passMs = timer_.results();
-    frame.listedPixels = mask_.listedPixels();
-    frame.coverage = mask_.coverage();
+    gpu::RayWorkHeader listed = readWorkHeader(images_.mask);
+    frame.listedPixels = listed.count;
+    frame.coverage = double(listed.count) / double(pixelCount());
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
-      VkBufferCopy region{0, 0, mask_.workList().size()};
-      vkCmdCopyBuffer(cmd, mask_.workList().get(), listReadback_.get(), 1, &region);
-      gpu::copyImageToBuffer(cmd, targets_.normalDepth, depthReadback_);
-      gpu::copyImageToBuffer(cmd, mask_.rays(), raysReadback_);
+      gpu::copyBufferToHost(cmd, images_.mask.workList, listReadback_, listReadback_.size());
     });
-    const auto* normalDepth = static_cast<const glm::vec4*>(depthReadback_.mapped());
-    for (size_t i = 0; i < pixelCount(); ++i) frame.depth.push_back(normalDepth[i].w);
-    const auto* rays = static_cast<const uint8_t*>(raysReadback_.mapped());
-    frame.rays.assign(rays, rays + pixelCount());
+    for (const glm::vec4& texel : readImage(images_.gbuffer.normalDepth))
+      frame.depth.push_back(texel.w);
+    frame.rays = readBytes(images_.mask.rays);
     const auto* list = static_cast<const std::byte*>(listReadback_.mapped());
     std::memcpy(&frame.header, list, sizeof(frame.header));
     frame.entries.resize(frame.header.count);
@@ -94,18 +87,27 @@ class RayMaskRig {
     return frame;
   }
 
-  uint32_t width() const { return targets_.width; }
-  uint32_t height() const { return targets_.height; }
+  uint32_t width() const { return images_.width; }
+  uint32_t height() const { return images_.height; }
 
  private:
-  size_t pixelCount() const { return size_t(targets_.width) * targets_.height; }
+  size_t pixelCount() const { return size_t(width()) * height(); }
+
+  static std::vector<uint8_t> readBytes(const gpu::Image& image) {
+    gpu::Buffer buffer(testContext(), VkDeviceSize(image.width()) * image.height(),
+                       VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback, "test bytes");
+    testContext().submitAndWait(
+        [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, image, buffer); });
+    const auto* bytes = static_cast<const uint8_t*>(buffer.mapped());
+    return std::vector<uint8_t>(bytes, bytes + buffer.size());
+  }
 
   SceneOnGpu& scene_;
-  RenderTargets targets_;
+  FrameImages images_;
   GBufferPass gbuffer_;
   RayMask mask_;
   gpu::Buffer uniformBuffer_;
-  gpu::Buffer depthReadback_, raysReadback_, listReadback_;
+  gpu::Buffer listReadback_;
   gpu::GpuTimer timer_;
   Camera camera_;
   float suggestedFocus_ = 5.0f;
@@ -149,10 +151,9 @@ TEST(RayMask, NoisyPixelsGetRaysByTheirVariance) {
   RayMaskRig rig("builtin:wall", kW, kH);
   // Halfway between the variance that turns rays on and the one that asks for all of them.
   float level = 0.5f * gpu::kRayMaskVarianceFull;
-  gpu::Image variance = gpu::createImage2D(
-      testContext(), kW, kH, VK_FORMAT_R32_SFLOAT,
-      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, "test variance");
-  gpu::makeGeneral(testContext(), {&variance});
+  gpu::ImageBatch batch(testContext());
+  gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32_SFLOAT, "test variance");
+  batch.finish();
   testContext().submitAndWait([&](VkCommandBuffer cmd) {
     VkClearColorValue value{{level, 0.0f, 0.0f, 0.0f}};
     VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
@@ -213,7 +214,7 @@ TEST(RayMask, ReportsEveryPassTime) {
       times[i].second.push_back(result.passMs[i].second);
     }
   }
-  EXPECT_EQ(times.size(), 6u);
+  EXPECT_EQ(times.size(), 9u);  // clear, edges, tiles, dilate, spread, rays, compact, indirect, readback
   double total = 0.0;
   std::printf("builtin:dof %ux%u f/1.4, median of %d frames:\n", kWidth, kHeight, kFrames);
   for (auto& [name, ms] : times) {

@@ -1,7 +1,7 @@
 // SPIR-V reflection, on the shaders embedded at build time and on small hand-assembled modules.
 #include "gpu/shader_interface.h"
 
-#include "gpu/pipeline.h"
+#include "gpu/program.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,107 @@
+#include "render/frame_images.h"
+
+#include <shared/dof.h>
+#include <shared/ray_work.h>
+
+#include <cstring>
+
+namespace hdof {
+namespace {
+
+constexpr VkFormat kColor = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kPrecise = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat kPair = VK_FORMAT_R16G16_SFLOAT;
+constexpr VkFormat kScalar = VK_FORMAT_R16_SFLOAT;
+
+uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) {
+  return (value + divisor - 1) / divisor;
+}
+
+}  // namespace
+
+GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
+                             uint32_t h)
+    : visibility(batch.make(w, h, VK_FORMAT_R32_UINT, "visibility",
+                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
+      color(batch.make(w, h, kColor, "color")),
+      specular(batch.make(w, h, kColor, "specular")),
+      normalDepth(batch.make(w, h, kPrecise, "normal depth")),
+      motion(batch.make(w, h, kPair, "motion")) {
+  gpu::ImageDesc desc;
+  desc.width = w;
+  desc.height = h;
+  desc.format = VK_FORMAT_D32_SFLOAT;
+  desc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+  desc.aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
+  depth = gpu::Image(context, desc, "depth");  // the render pass moves it out of UNDEFINED
+}
+
+DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
+  uint32_t halfW = divideRoundingUp(w, 2), halfH = divideRoundingUp(h, 2);
+  uint32_t tilesW = divideRoundingUp(w, gpu::kDofTileSize);
+  uint32_t tilesH = divideRoundingUp(h, gpu::kDofTileSize);
+  coc = batch.make(w, h, kScalar, "dof coc");
+  tiles = batch.make(tilesW, tilesH, kPair, "dof tiles");
+  dilatedTiles = batch.make(tilesW, tilesH, kPair, "dof dilated tiles");
+  halfColorCoc = batch.make(halfW, halfH, kColor, "dof half colour");
+  prefiltered = batch.make(halfW, halfH, kColor, "dof prefiltered");
+  farLayer = batch.make(halfW, halfH, kColor, "dof far layer");
+  nearLayer = batch.make(halfW, halfH, kColor, "dof near layer");
+  farFiltered = batch.make(halfW, halfH, kColor, "dof far filtered");
+  nearFiltered = batch.make(halfW, halfH, kColor, "dof near filtered");
+  output = batch.make(w, h, kColor, "dof output");
+}
+
+RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
+                             uint32_t h) {
+  uint32_t tilesW = divideRoundingUp(w, gpu::kDofTileSize);
+  uint32_t tilesH = divideRoundingUp(h, gpu::kDofTileSize);
+  reach = batch.make(w, h, kScalar, "ray mask reach");
+  strength = batch.make(w, h, kScalar, "ray mask strength");
+  tiles = batch.make(tilesW, tilesH, kPair, "ray mask tiles");
+  dilatedTiles = batch.make(tilesW, tilesH, kPair, "ray mask dilated tiles");
+  spread = batch.make(w, h, kPair, "ray mask spread");
+  rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
+  workList = gpu::Buffer(context,
+                         sizeof(gpu::RayWorkHeader) + VkDeviceSize(w) * h * gpu::kRayWorkEntrySize,
+                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                             VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         gpu::MemoryUse::DeviceOnly, "ray work list");
+  workHeader = gpu::Buffer(context, sizeof(gpu::RayWorkHeader), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                           gpu::MemoryUse::Readback, "ray work list header");
+  std::memset(workHeader.mapped(), 0, sizeof(gpu::RayWorkHeader));
+}
+
+HybridImages::HybridImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h)
+    : nearLayer(batch.make(w, h, kColor, "hybrid near layer")),
+      farLayer(batch.make(w, h, kColor, "hybrid far layer")),
+      farPosition(batch.make(w, h, kPrecise, "hybrid far position")),
+      layerCoc(batch.make(w, h, kPair, "hybrid layer coc")),
+      samplesTraced(batch.make(w, h, VK_FORMAT_R32_UINT, "hybrid samples traced")),
+      history{History{batch.make(w, h, kColor, "history near 0"),
+                      batch.make(w, h, kColor, "history far 0"),
+                      batch.make(w, h, kPrecise, "history moments 0")},
+              History{batch.make(w, h, kColor, "history near 1"),
+                      batch.make(w, h, kColor, "history far 1"),
+                      batch.make(w, h, kPrecise, "history moments 1")}},
+      variance(batch.make(w, h, kScalar, "hybrid variance")),
+      reconstructedNear(batch.make(w, h, kColor, "hybrid reconstructed near")),
+      reconstructedFar(batch.make(w, h, kColor, "hybrid reconstructed far")),
+      output(batch.make(w, h, kColor, "hybrid output")) {}
+
+FrameImages::FrameImages(const gpu::Context& context, uint32_t w, uint32_t h)
+    : width(w),
+      height(h),
+      batch(context),
+      gbuffer(batch, context, w, h),
+      dof(batch, w, h),
+      mask(batch, context, w, h),
+      hybrid(batch, w, h),
+      accumulation(batch.make(w, h, kPrecise, "accumulation")),
+      display(batch.make(w, h, VK_FORMAT_R8G8B8A8_UNORM, "display")),
+      readback(context, VkDeviceSize(w) * h * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+               gpu::MemoryUse::Readback, "display readback") {
+  batch.finish();
+}
+
+}  // namespace hdof

@@ -1,0 +1,93 @@
+// Every image and buffer one session's frame pipeline renders into, sized to its viewport, with
+// one owner: FrameImages, remade whole for a new viewport. The passes receive the images they read and
+// write; none owns any. All colour images stay in VK_IMAGE_LAYOUT_GENERAL (storage and sampled
+// use) and start out zero. Half: half the viewport's size, rounded up; tiles: one texel per
+// kDofTileSize pixels.
+#pragma once
+
+#include "gpu/resources.h"
+
+#include <array>
+
+namespace hdof {
+
+// The G-buffer (gbuffer_pass.h): the raster's visibility and its shaded resolve.
+struct GBufferImages {
+  GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
+  gpu::Image visibility;   // r32ui: the triangle seen at each pixel centre
+  gpu::Image depth;        // d32: the raster's depth buffer
+  gpu::Image color;        // rgba16f: sharp shaded colour (HDR)
+  gpu::Image specular;     // rgba16f: its specular part
+  gpu::Image normalDepth;  // rgba32f: world normal, linear view depth (metres)
+  // rg16f: where each pixel's surface was in the previous frame, in pixels from the pixel (for
+  // the sky: where its direction was)
+  gpu::Image motion;
+};
+
+// The post-process depth of field (postprocess_dof.h).
+struct DofImages {
+  DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h);
+  gpu::Image coc;                        // r16f: signed CoC in pixels (negative: near field)
+  gpu::Image tiles, dilatedTiles;        // rg16f, tiles: largest |CoC|, nearest CoC
+  gpu::Image halfColorCoc, prefiltered;  // rgba16f, half: colour, alpha the CoC
+  gpu::Image farLayer, nearLayer;        // rgba16f, half: the gather's (see dof_gather.comp)
+  gpu::Image farFiltered, nearFiltered;  // the same after the median
+  gpu::Image output;                     // rgba16f: the blurred image, HDR, alpha 1
+};
+
+// The adaptive ray mask (ray_mask.h) and the work list it hands to the selective ray trace.
+struct RayMaskImages {
+  RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
+  gpu::Image reach, strength;      // r16f: per edge pixel, its disc diameter and edge strength
+  gpu::Image tiles, dilatedTiles;  // rg16f, tiles: x the largest reach
+  gpu::Image spread;               // rg16f: the row pass of the disc dilation
+  gpu::Image rays;                 // r8ui: rays per pixel, 0 where the post-process is enough
+  gpu::Buffer workList;            // shared/ray_work.h: header (dispatch arguments), entries
+  gpu::Buffer workHeader;          // the list's header, read back for the frame's stats
+};
+
+// The hybrid's ray-traced layers (hybrid_dof.h): what the trace writes for the listed pixels,
+// the temporal history, and the spatial reconstruction.
+struct HybridImages {
+  HybridImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h);
+  // The trace's, this frame.
+  gpu::Image nearLayer;    // rgba16f: average near-layer colour, alpha the hit ratio
+  gpu::Image farLayer;     // rgba16f: average far-layer colour, alpha 1 - hit ratio
+  gpu::Image farPosition;  // rgba32f: average world position of far hits, w their weight
+  gpu::Image layerCoc;     // rg16f: average near |CoC| and far CoC, pixels
+  // r32ui, kept from frame to frame: how many rays each pixel has traced so far, so that its
+  // next rays continue its sample sequence whatever the mask gave it in earlier frames.
+  gpu::Image samplesTraced;
+  // The temporal accumulation's, two sets that swap roles each frame. Colours premultiplied by
+  // their layer's share of the rays.
+  struct History {
+    gpu::Image nearLayer;  // rgba16f: near colour x hit ratio, accumulated hit ratio
+    gpu::Image farLayer;   // rgba16f: far colour x (1 - ratio), rays accumulated
+    gpu::Image moments;    // rgba32f: luminance mean, mean square, rays accumulated, depth
+  };
+  std::array<History, 2> history;
+  // r16f: luminance variance of one ray (0 where the mask did not trace), for the next mask.
+  gpu::Image variance;
+  // The spatial reconstruction's, as History's near and far layers.
+  gpu::Image reconstructedNear, reconstructedFar;
+  gpu::Image output;  // rgba16f: the composite (or a debug view), HDR
+};
+
+// Owned by the frame pipeline, which remakes it for a new viewport once the GPU is done with it.
+struct FrameImages {
+  FrameImages(const gpu::Context& context, uint32_t width, uint32_t height);
+  FrameImages(const FrameImages&) = delete;
+  FrameImages& operator=(const FrameImages&) = delete;
+
+  uint32_t width, height;
+  gpu::ImageBatch batch;  // before the images: they are made through it
+  GBufferImages gbuffer;
+  DofImages dof;
+  RayMaskImages mask;
+  HybridImages hybrid;
+  gpu::Image accumulation;  // rgba32f: raytrace and reference's progressive sum, alpha rays
+  gpu::Image display;       // rgba8: tonemapped sRGB output
+  gpu::Buffer readback;     // display's pixels for the CPU
+};
+
+}  // namespace hdof
