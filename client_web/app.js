@@ -14,11 +14,14 @@ const state = {
   camera: null, // {position, target, up, fov_y_deg}
   lens: null, // {focal_length_mm, f_number, focus_distance, blades, blade_rotation_deg}
   mode: fromUrl.mode ?? null, // null: the daemon's default, learnt from the first frame
-  view: fromUrl.view ?? 'final',
+  view: fromUrl.view ?? null, // a debug view of the welcome's; null: the finished image
   compare: fromUrl.compare ?? null, // the split view's second mode, null when not split
   settings: {},
 };
 let welcome = null;
+// The split view's second mode at first, when the daemon has it: the post-process alone, to set
+// beside the hybrid.
+const COMPARE_MODE = 'postprocess';
 let seq = 0;
 let lensSeq = 0; // the newest lens or focus_at input: frames before it show an older focus
 let stillQuality = 0; // the highest JPEG quality seen: the daemon's still quality
@@ -100,11 +103,16 @@ function fillControls(message) {
   for (const select of [$('#mode'), $('#compare-mode')])
     for (const name of message.modes) select.add(new Option(name, name));
   if (state.mode) $('#mode').value = state.mode;
-  $('#compare-mode').value = message.modes.includes('postprocess') ? 'postprocess' : message.modes[0];
+  $('#compare-mode').value = message.modes.includes(COMPARE_MODE) ? COMPARE_MODE : message.modes[0];
+  // The first view is the finished image: the state keeps it as null (the daemon's default).
+  const views = message.views ?? [];
+  const [finished, ...stages] = views;
+  for (const name of views) $('#view').add(new Option(name, name));
+  if (!stages.includes(state.view)) state.view = null;
+  $('#view').value = state.view ?? finished;
   const rays = $('#rays');
   rays.max = message.limits.max_rays_per_pixel;
   rays.disabled = rays.max <= 1;
-  $('#view').value = state.view;
   updateViewControl();
   if (state.compare) {
     $('#compare-mode').value = state.compare;
@@ -141,7 +149,7 @@ function showStatus({ state: connectionState, message }, pane) {
 }
 
 function updateViewControl() {
-  $('#view').disabled = state.mode !== 'hybrid';
+  $('#view').disabled = state.mode !== protocol.DEBUG_VIEW_MODE;
 }
 
 function setSplit(on) {
@@ -229,7 +237,7 @@ $('#mode').addEventListener('change', (event) => {
   writeUrl(state);
 });
 $('#view').addEventListener('change', (event) => {
-  state.view = event.target.value;
+  state.view = event.target.value === welcome.views?.[0] ? null : event.target.value;
   primary.send(modeMessage(++seq, primary));
   writeUrl(state);
 });

@@ -5,7 +5,9 @@ export const PROTOCOL_VERSION = 1;
 export const FRAME_MAGIC = 0x464f4448; // "HDOF"
 export const FRAME_HEADER_BYTES = 32;
 export const FORMAT_JPEG = 1;
-export const DEBUG_VIEWS = ['final', 'mask', 'hitratio', 'coc', 'near', 'far'];
+// The render modes and debug views are the welcome's `modes` and `views`. The views other than
+// the first (the finished image) show the stages of this one mode.
+export const DEBUG_VIEW_MODE = 'hybrid';
 
 export const CLOSE = {
   GOING_AWAY: 1001,
@@ -47,10 +49,11 @@ export function focusAt(seq, x, y, pullMs) {
   return { type: 'focus_at', seq, x, y, pull_ms: pullMs };
 }
 
+// view: one of the welcome's views, or null for the finished image (the daemon's default). It is
+// sent only with DEBUG_VIEW_MODE: the other modes have no stages to show.
 export function mode(seq, name, view) {
   const message = { type: 'mode', seq, mode: name };
-  // Debug views other than the final image exist only for the hybrid.
-  if (name === 'hybrid' && view) message.view = view;
+  if (name === DEBUG_VIEW_MODE && view) message.view = view;
   return message;
 }
 

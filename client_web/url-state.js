@@ -26,7 +26,7 @@ export function urlHash({ camera, lens, mode, view, compare }) {
     params.set('lens', [lens.focal_length_mm, lens.f_number, lens.focus_distance, lens.blades ?? 0]
       .map(round).join(','));
   if (mode) params.set('mode', mode);
-  if (view && view !== 'final') params.set('view', view);
+  if (view) params.set('view', view); // null: the finished image
   if (compare) params.set('compare', compare);
   return '#' + params.toString().replaceAll('%2C', ',');
 }

@@ -4,6 +4,7 @@
 #include "app/progress.h"
 #include "app/quality_motion.h"
 #include "app/render_setup.h"
+#include "encode/image_file.h"
 #include "quality/occlusion_mask.h"
 #include "quality/reference_image.h"
 

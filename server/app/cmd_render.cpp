@@ -2,6 +2,7 @@
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/render_setup.h"
+#include "encode/image_file.h"
 #include "render/camera_path.h"
 #include "render/frame_pipeline.h"
 

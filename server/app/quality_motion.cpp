@@ -1,6 +1,7 @@
 #include "app/quality_motion.h"
 
 #include "app/progress.h"
+#include "encode/image_file.h"
 #include "quality/occlusion_mask.h"
 
 #include <nlohmann/json.hpp>

@@ -1,32 +1,17 @@
 #include "image/image.h"
 
-#include "encode/jpeg.h"
-
 #include <stb_image.h>
 #include <stb_image_write.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <climits>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <system_error>
 
 namespace hdof {
 namespace {
-
-enum class FileFormat { kPng, kJpeg, kOther };
-
-FileFormat formatFromExtension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".png") return FileFormat::kPng;
-  if (extension == ".jpg" || extension == ".jpeg") return FileFormat::kJpeg;
-  return FileFormat::kOther;
-}
 
 struct FileCloser {
   void operator()(FILE* file) const { std::fclose(file); }
@@ -34,16 +19,6 @@ struct FileCloser {
 using File = std::unique_ptr<FILE, FileCloser>;
 
 std::string osReason(int error) { return std::generic_category().message(error); }
-
-void writeFile(const std::string& path, const std::vector<uint8_t>& bytes) {
-  File file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw ImageError("cannot write '" + path + "': " + osReason(errno));
-  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size())
-    throw ImageError("cannot write '" + path + "': " + osReason(errno));
-  // A full disk often shows only when the buffered tail is flushed.
-  if (std::fclose(file.release()) != 0)
-    throw ImageError("cannot write '" + path + "': " + osReason(errno));
-}
 
 std::vector<uint8_t> readFile(const std::string& path) {
   File file(std::fopen(path.c_str(), "rb"));
@@ -54,19 +29,6 @@ std::vector<uint8_t> readFile(const std::string& path) {
   while ((got = std::fread(chunk, 1, sizeof chunk, file.get())) > 0)
     bytes.insert(bytes.end(), chunk, chunk + got);
   if (std::ferror(file.get())) throw ImageError("cannot read '" + path + "': " + osReason(errno));
-  return bytes;
-}
-
-std::vector<uint8_t> encodePng(const ImageRgba8& image) {
-  std::vector<uint8_t> bytes;
-  auto append = [](void* context, void* data, int size) {
-    auto* out = static_cast<std::vector<uint8_t>*>(context);
-    out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
-  };
-  if (!stbi_write_png_to_func(append, &bytes, static_cast<int>(image.width),
-                              static_cast<int>(image.height), 4, image.pixels.data(),
-                              static_cast<int>(image.width * 4)))
-    throw std::runtime_error("PNG encoding failed");
   return bytes;
 }
 
@@ -83,21 +45,41 @@ bool hasPngOrJpegSignature(const std::vector<uint8_t>& bytes) {
 
 }  // namespace
 
-void writeImage(const std::string& path, const ImageRgba8& image, int jpegQuality) {
-  FileFormat format = formatFromExtension(path);
-  if (format == FileFormat::kOther)
-    throw ImageError("cannot write '" + path + "': use a .png or .jpg file name");
+std::vector<uint8_t> encodePng(const ImageRgba8& image) {
   if (image.width == 0 || image.height == 0 || image.width > (1u << 24) ||
       image.height > (1u << 24) || image.pixels.size() != size_t{image.width} * image.height * 4)
-    throw std::invalid_argument("writeImage: not a valid " + std::to_string(image.width) + "x" +
+    throw std::invalid_argument("encodePng: not a valid " + std::to_string(image.width) + "x" +
                                 std::to_string(image.height) + " RGBA8 image");
   std::vector<uint8_t> bytes;
+  auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<uint8_t>*>(context);
+    out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+  };
+  if (!stbi_write_png_to_func(append, &bytes, static_cast<int>(image.width),
+                              static_cast<int>(image.height), 4, image.pixels.data(),
+                              static_cast<int>(image.width * 4)))
+    throw std::runtime_error("PNG encoding failed");
+  return bytes;
+}
+
+void writeImageBytes(const std::string& path, std::span<const uint8_t> bytes) {
+  File file(std::fopen(path.c_str(), "wb"));
+  if (!file) throw ImageError("cannot write '" + path + "': " + osReason(errno));
+  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size())
+    throw ImageError("cannot write '" + path + "': " + osReason(errno));
+  // A full disk often shows only when the buffered tail is flushed.
+  if (std::fclose(file.release()) != 0)
+    throw ImageError("cannot write '" + path + "': " + osReason(errno));
+}
+
+void writePng(const std::string& path, const ImageRgba8& image) {
+  std::vector<uint8_t> bytes;
   try {
-    bytes = format == FileFormat::kPng ? encodePng(image) : encodeJpeg(image, jpegQuality);
+    bytes = encodePng(image);
   } catch (const std::runtime_error& e) {
     throw ImageError("cannot write '" + path + "': " + e.what());
   }
-  writeFile(path, bytes);
+  writeImageBytes(path, bytes);
 }
 
 ImageRgba8 readImage(const std::string& path) {

@@ -1,7 +1,10 @@
-// 8-bit RGBA images on the CPU: files (PNG, JPEG) and quality metrics (PSNR, SSIM).
+// 8-bit RGBA images on the CPU: PNG files, reading JPEG files, and quality metrics (PSNR, SSIM).
+// The lowest layer of images, below the JPEG encoder: writing JPEG, and writing a file in the
+// format its name asks for (writeImage), are the encoding layer's.
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,8 +21,14 @@ struct ImageRgba8 {
   std::vector<uint8_t> pixels;  // row-major, top row first, 4 bytes a pixel
 };
 
-// Writes PNG or JPEG by the file's extension (.png, .jpg, .jpeg). Throws ImageError.
-void writeImage(const std::string& path, const ImageRgba8& image, int jpegQuality = 92);
+// The PNG file's bytes, alpha kept. Throws std::invalid_argument on a bad image,
+// std::runtime_error when encoding fails.
+std::vector<uint8_t> encodePng(const ImageRgba8& image);
+// Writes a PNG file. Throws ImageError naming the path and the reason.
+void writePng(const std::string& path, const ImageRgba8& image);
+// Writes an encoded image's bytes (PNG, JPEG) to a file. Throws ImageError naming the path and
+// the reason.
+void writeImageBytes(const std::string& path, std::span<const uint8_t> bytes);
 // Reads a PNG or JPEG file. Throws ImageError.
 ImageRgba8 readImage(const std::string& path);
 

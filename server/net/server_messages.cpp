@@ -57,6 +57,7 @@ LensMessage lensMessageOf(const Lens& lens) {
 std::string welcomeMessage(const Welcome& welcome) {
   json modes = json::array();
   for (RenderMode mode : kStreamingModes) modes.push_back(modeName(mode));
+  json views = debugViewList();
   json cameras = json::array();
   for (const SceneCamera& c : welcome.cameras) {
     json camera = cameraJson(cameraMessageOf(Camera::fromScene(c), c.focusDistance.value_or(1.0f)));
@@ -77,6 +78,7 @@ std::string welcomeMessage(const Welcome& welcome) {
         {"max_message_bytes", welcome.limits.maxMessageBytes},
         {"max_unacked_frames", welcome.limits.maxUnackedFrames}}},
       {"modes", modes},
+      {"views", views},
       {"scene",
        {{"name", welcome.sceneName},
         {"bounds", {{"min", array(welcome.bounds.min)}, {"max", array(welcome.bounds.max)}}},

@@ -54,6 +54,7 @@ test('messages carry only the protocol\'s fields', () => {
     { type: 'hello', protocol: 1, viewport: { width: 480, height: 270 } });
   assert.deepEqual(protocol.mode(3, 'postprocess', 'mask'), { type: 'mode', seq: 3, mode: 'postprocess' });
   assert.deepEqual(protocol.mode(4, 'hybrid', 'mask'), { type: 'mode', seq: 4, mode: 'hybrid', view: 'mask' });
+  assert.deepEqual(protocol.mode(5, 'hybrid', null), { type: 'mode', seq: 5, mode: 'hybrid' });
   assert.deepEqual(Object.keys(protocol.camera(1, { position: [0, 0, 1], target: [0, 0, 0], up: [0, 1, 0], fov_y_deg: 40, name: 'x' })),
     ['type', 'seq', 'position', 'target', 'up', 'fov_y_deg']);
 });
@@ -82,5 +83,6 @@ test('the URL hash round-trips camera, lens and mode', () => {
   const lens = { focal_length_mm: 50, f_number: 1.4, focus_distance: 2.4, blades: 6 };
   const state = readUrlState(urlHash({ camera: view, lens, mode: 'hybrid', view: 'mask', compare: 'postprocess' }));
   assert.deepEqual(state, { camera: view, lens, mode: 'hybrid', view: 'mask', compare: 'postprocess' });
+  assert.equal(urlHash({ mode: 'hybrid', view: null }), '#mode=hybrid'); // the finished image
   assert.deepEqual(readUrlState('#camera=1,2,nope'), {});
 });

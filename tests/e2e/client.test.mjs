@@ -1,6 +1,7 @@
 // The browser client in headless Chromium against a daemon this test starts on a free port:
-// the page connects, a frame appears, a drag changes the picture, a click focuses, the mode
-// selector changes the mode the frames report, a snapshot downloads, and a screenshot is saved.
+// the page connects, a frame appears, a drag changes the picture, a click focuses, the view
+// selector lists the daemon's debug views and shows one with the hybrid, the mode selector
+// changes the mode the frames report, a snapshot downloads, and screenshots are saved.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
 
@@ -126,11 +127,50 @@ async function run(page, url) {
   assert.notEqual(focusAfter, focusBefore, 'a click focuses on the surface under the cursor');
   step(`click to focus: ${focusBefore} -> ${focusAfter}`);
 
+  // The view selector is the welcome's views (asked here of a session of its own), and it is
+  // only for the hybrid.
+  const views = await page.evaluate(() => new Promise((resolve, reject) => {
+    const socket = new WebSocket(`ws://${location.host}/session`, 'hdof.v1');
+    socket.onopen = () => socket.send(JSON.stringify(
+      { type: 'hello', protocol: 1, viewport: { width: 16, height: 16 } }));
+    socket.onmessage = (event) => {
+      const message = JSON.parse(event.data);
+      socket.close();
+      if (message.type === 'welcome') resolve(message.views);
+      else reject(new Error(`no welcome: ${event.data}`));
+    };
+    socket.onerror = () => reject(new Error('the welcome socket failed'));
+  }));
+  assert.ok(Array.isArray(views) && views.length > 1, `the welcome lists views: ${views}`);
+  const options = () => page.$$eval('#view option', (list) => list.map((o) => o.value));
+  assert.deepEqual(await options(), views, 'the view selector lists the welcome\'s views');
+  assert.equal(await page.inputValue('#view'), views[0], 'the finished image is shown first');
+  assert.ok(await page.isDisabled('#view'), 'no debug views outside the hybrid');
+  await page.selectOption('#mode', 'hybrid');
+  await page.waitForFunction(
+    () => document.querySelector('[data-field="mode"]').textContent === 'hybrid',
+    null, { timeout: TIMEOUT_MS });
+  assert.ok(await page.isEnabled('#view'), 'the hybrid has debug views');
+  const plain = await thumbnail(page);
+  await page.selectOption('#view', views[1]);
+  await page.waitForFunction((view) => location.hash.includes(`view=${view}`), views[1]);
+  difference = 0;
+  for (const deadline = Date.now() + TIMEOUT_MS; difference < 4 && Date.now() < deadline;) {
+    await page.waitForTimeout(250);
+    difference = meanDifference(plain, await thumbnail(page));
+  }
+  assert.ok(difference >= 4, `the ${views[1]} view changes the picture (mean difference ${difference.toFixed(2)})`);
+  await page.locator('#view').scrollIntoViewIfNeeded(); // the 270 px window hides the panel's end
+  await page.screenshot({ path: path.join(artifacts, 'client-view.png') });
+  step(`the view selector lists ${views.join(', ')}; ${views[1]} shown ` +
+    `(screenshot ${path.join(artifacts, 'client-view.png')})`);
+
   await page.selectOption('#mode', 'pinhole');
   await page.waitForFunction(
     () => document.querySelector('[data-field="mode"]').textContent === 'pinhole',
     null, { timeout: TIMEOUT_MS });
   await page.waitForFunction(() => location.hash.includes('mode=pinhole')); // the URL follows
+  assert.ok(await page.isDisabled('#view'), 'no debug views outside the hybrid');
   step('the mode selector changed the mode in the stats');
 
   const [download] = await Promise.all([

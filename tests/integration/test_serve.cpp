@@ -54,6 +54,7 @@ TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
   EXPECT_FALSE(welcome["session"].get<std::string>().empty());
   EXPECT_EQ(welcome["limits"]["max_unacked_frames"], 2);
   EXPECT_EQ(welcome["modes"], nlohmann::json({"pinhole", "postprocess", "raytrace", "hybrid"}));
+  EXPECT_EQ(welcome["views"], nlohmann::json(debugViewList()));
   EXPECT_EQ(welcome["scene"]["name"], "builtin:dof");
   EXPECT_EQ(welcome["camera"]["type"], "camera");
   EXPECT_GT(welcome["lens"]["focus_distance"].get<double>(), 0.0);

@@ -1,6 +1,7 @@
 // Image files (PNG, JPEG) and the PSNR / SSIM metrics that quality is judged by.
 #include "image/image.h"
 
+#include "encode/image_file.h"
 #include "encode/jpeg.h"
 
 #include <gtest/gtest.h>
@@ -138,6 +139,15 @@ TEST_F(ImageFileTest, ExtensionChoosesTheFormatWhateverItsCase) {
   EXPECT_EQ(readBytes("b.JpEg").substr(0, 2), "\xff\xd8");
   EXPECT_EQ(readBytes("c.JPG").substr(0, 2), "\xff\xd8");
   EXPECT_EQ(readImage(path("a.PNG")).pixels, image.pixels);
+}
+
+TEST_F(ImageFileTest, WritePngWritesPngWhateverTheName) {
+  ImageRgba8 image = solid(3, 2, {1, 2, 3, 4});
+  writePng(path("a.jpg"), image);
+  EXPECT_EQ(readBytes("a.jpg").substr(1, 3), "PNG");
+  EXPECT_EQ(readImage(path("a.jpg")).pixels, image.pixels);
+  EXPECT_THROW(encodePng(ImageRgba8{}), std::invalid_argument);
+  EXPECT_THROW(encodePng(ImageRgba8{4, 4, std::vector<uint8_t>(10)}), std::invalid_argument);
 }
 
 TEST_F(ImageFileTest, WritingAnUnknownExtensionIsAnError) {

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+
 namespace hdof::net {
 namespace {
 
@@ -206,6 +208,16 @@ TEST(ServerMessages, WelcomeAndErrorFollowTheSchemas) {
   EXPECT_EQ(w["limits"]["max_unacked_frames"], 2);
   EXPECT_EQ(w["scene"]["cameras"][0]["name"], "main");
   EXPECT_EQ(w["camera"]["type"], "camera");
+  EXPECT_EQ(w["views"], nlohmann::json(debugViewList()));
+  EXPECT_EQ(w["views"][0], "final");
+  // Every welcome field is in the schema, and every field it requires is in the welcome.
+  std::ifstream schemaFile(HDOF_SOURCE_DIR "/protocol/schemas/welcome.json");
+  ASSERT_TRUE(schemaFile) << "protocol/schemas/welcome.json";
+  const nlohmann::json schema = nlohmann::json::parse(schemaFile);
+  for (const auto& [field, value] : w.items())
+    EXPECT_TRUE(schema["properties"].contains(field)) << field << " is not in welcome.json";
+  for (const auto& field : schema["required"])
+    EXPECT_TRUE(w.contains(field.get<std::string>())) << field << " is missing from the welcome";
   // The welcome's camera and lens are valid client messages.
   EXPECT_TRUE(parse(w["camera"].dump()).ok()) << w["camera"].dump();
   EXPECT_TRUE(parse(w["lens"].dump()).ok()) << w["lens"].dump();
