@@ -17,7 +17,7 @@ int runBench(std::span<const std::string> args) {
   ArgParser parser("bench", "[options]",
                    "Measures BVH build time, G-buffer time and reference ray traversal speed\n"
                    "(1 ray per pixel) and prints medians. Example:\n"
-                   "  hdof bench --scene ../shared/scenes/living-room/living-room.gltf "
+                   "  hdof bench --scene assets/scenes/living-room/living-room.gltf "
                    "--camera closeup");
   addSceneOptions(parser, sceneOptions);
   addLensOptions(parser, lensOptions);

@@ -57,7 +57,7 @@ int runQuality(std::span<const std::string> args) {
       "PSNR and SSIM against the reference over the whole image and over the partial-occlusion\n"
       "region (pixels within the near-field CoC of a depth edge whose near side is out of focus),\n"
       "and the GPU time per frame. Images and the region mask go to --out. For the paper's view:\n"
-      "  hdof quality --scene ../shared/scenes/living-room/living-room.gltf --camera closeup \\\n"
+      "  hdof quality --scene assets/scenes/living-room/living-room.gltf --camera closeup \\\n"
       "    --focus-distance 2.4 --f-number 1.4 --focal-length 50\n"
       "With --camera-path, the modes render the path's frames in motion instead, and are compared\n"
       "at four of them with references of those views (256 rays per pixel unless "

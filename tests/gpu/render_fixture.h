@@ -14,7 +14,7 @@
 
 namespace hdof::test {
 
-inline const std::string kLivingRoom = HDOF_SHARED_DIR "/scenes/living-room/living-room.gltf";
+inline const std::string kLivingRoom = HDOF_ASSETS_DIR "/scenes/living-room/living-room.gltf";
 
 struct SceneOnGpu {
   Scene scene;

@@ -9,7 +9,7 @@ namespace hdof {
 namespace {
 
 const std::string kLivingRoom =
-    std::string(HDOF_SHARED_DIR) + "/scenes/living-room/living-room.gltf";
+    std::string(HDOF_ASSETS_DIR) + "/scenes/living-room/living-room.gltf";
 
 const Scene& livingRoom() {
   static const Scene scene = loadScene(kLivingRoom);

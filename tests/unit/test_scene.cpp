@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kLivingRoom =
-    std::string(HDOF_SHARED_DIR) + "/scenes/living-room/living-room.gltf";
+    std::string(HDOF_ASSETS_DIR) + "/scenes/living-room/living-room.gltf";
 
 const Scene& livingRoom() {
   static const Scene scene = loadScene(kLivingRoom);
