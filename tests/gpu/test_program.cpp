@@ -1,0 +1,97 @@
+// Compute programs know their shader's interface: what C++ binds is checked against it by name,
+// kind and push-constant size, so a mismatch is an error rather than a wrong image.
+#include "gpu/program.h"
+#include "render/frame_images.h"
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+
+#include <shared/frame.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace hdof::test {
+namespace {
+
+// Records into a command buffer that is never submitted.
+class Recording {
+ public:
+  Recording() : cmd_(testContext().allocateCommandBuffer()) {
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+  }
+  ~Recording() {
+    vkEndCommandBuffer(cmd_);
+    vkResetCommandBuffer(cmd_, 0);
+  }
+  VkCommandBuffer cmd() const { return cmd_; }
+
+ private:
+  VkCommandBuffer cmd_;
+};
+
+std::string errorOf(const std::function<void()>& record) {
+  try {
+    record();
+  } catch (const std::logic_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ComputeProgram, TakesItsInterfaceFromTheShader) {
+  gpu::ComputeProgram tiles(testContext(), "dof_tiles.comp");
+  EXPECT_EQ(tiles.name(), "dof_tiles");
+  EXPECT_EQ(tiles.interface().localSize, (std::array<uint32_t, 3>{8, 8, 1}));
+  EXPECT_FALSE(tiles.readsScene());
+  SceneOnGpu& scene = testScene("builtin:wall");
+  gpu::ComputeProgram trace(testContext(), "hybrid_trace.comp", &scene.gpu->setLayout());
+  EXPECT_TRUE(trace.readsScene());
+  EXPECT_EQ(trace.interface().localSize[0], 64u);
+}
+
+TEST(ComputeProgram, ABindingThatDoesNotMatchTheShaderIsAnError) {
+  gpu::ComputeProgram tiles(testContext(), "dof_tiles.comp");
+  FrameImages images(testContext(), 32, 16);
+  gpu::Buffer frame(testContext(), sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
+                    gpu::MemoryUse::Upload, "test frame");
+  Recording recording;
+  auto record = [&](std::initializer_list<gpu::Bind> binds, gpu::PushConstants push = {}) {
+    return errorOf([&] {
+      tiles.record(recording.cmd(), binds, gpu::Grid::over(images.dof.tiles), push);
+    });
+  };
+  EXPECT_EQ(record({{"Frame", frame}, {"cocImage", images.dof.coc}, {"tiles", images.dof.tiles}}),
+            "");
+  EXPECT_NE(record({{"Frame", frame}, {"cocImage", images.dof.coc}}).find("nothing bound to 'tiles'"),
+            std::string::npos);
+  EXPECT_NE(record({{"Frame", frame},
+                    {"cocImage", images.dof.coc},
+                    {"tiles", images.dof.tiles},
+                    {"tile", images.dof.tiles}})
+                .find("no binding 'tile'"),
+            std::string::npos);
+  EXPECT_NE(record({{"Frame", frame}, {"cocImage", frame}, {"tiles", images.dof.tiles}})
+                .find("'cocImage' is an image"),
+            std::string::npos);
+  EXPECT_NE(record({{"Frame", frame},
+                    {"cocImage", images.dof.coc},
+                    {"cocImage", images.dof.coc},
+                    {"tiles", images.dof.tiles}})
+                .find("bound twice"),
+            std::string::npos);
+  uint32_t unexpected = 1;
+  EXPECT_NE(record({{"Frame", frame}, {"cocImage", images.dof.coc}, {"tiles", images.dof.tiles}},
+                   unexpected)
+                .find("push constants"),
+            std::string::npos);
+}
+
+TEST(ComputeProgram, AShaderThatReadsTheSceneNeedsIt) {
+  std::string error = errorOf([] { gpu::ComputeProgram(testContext(), "reference.comp"); });
+  EXPECT_NE(error.find("reads the scene"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace hdof::test
