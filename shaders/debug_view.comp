@@ -1,6 +1,7 @@
-// Debug views of the hybrid, as HDR colour for the tonemap: the ray mask (rays per pixel over the
-// cap), the accumulated hit ratio, the signed circle of confusion (near field blue, far field
-// red, the focus zone black), and the accumulated near and far layers.
+// Debug views of the hybrid (stage 7, drawn in place of the composite and timed as
+// hybrid_composite), as HDR colour for the tonemap: the ray mask (rays per pixel over the cap), the
+// accumulated hit ratio, the signed circle of confusion (near field blue, far field red, the focus
+// zone black), and the near and far layers as the spatial reconstruction (stage 6) left them.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,8 +1,8 @@
-// Post-process DoF, composite (full resolution): in the focus zone the sharp colour exactly;
-// beyond it the far layer, blended in as |CoC| grows; then the near layer over everything, with
-// its opacity (over in-focus pixels too: the blurred silhouette of a near object spreads).
-// Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3 half-
-// resolution pixels around it: 9 loads per layer instead of 16.
+// Post-process DoF (stage 2), composite (full resolution): in the focus zone the sharp colour
+// exactly; beyond it the far layer, blended in as |CoC| grows; then the near layer over everything,
+// with its opacity (over in-focus pixels too: the blurred silhouette of a near object spreads).
+// Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3
+// half-resolution pixels around it: 9 loads per layer instead of 16.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -1,6 +1,7 @@
-// Post-process DoF, tile dilation: each tile takes the largest |CoC| and the nearest CoC of the
-// tiles around it whose blur reaches it, so a gather sized by its tile sees every pixel that
-// scatters onto it (kDofTileReach tiles cover the largest CoC radius).
+// Post-process DoF (stage 2), tile dilation: each tile takes the largest |CoC| and the nearest CoC
+// of the tiles around it whose blur reaches it, so a gather sized by its tile sees every pixel that
+// scatters onto it (kDofTileReach tiles cover the largest CoC radius). The ray mask (stage 3) runs
+// it on its edges' reach too, as the step ray_mask_dilate.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

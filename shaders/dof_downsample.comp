@@ -1,7 +1,7 @@
-// Post-process DoF, CoC and downsample: the signed CoC of every pixel (full resolution), and
-// colour and CoC at half resolution. The CoC of a 2x2 block is its nearest, so near silhouettes
-// grow rather than shrink; colours are weighted by how close their CoC is to it, so in-focus
-// colour does not bleed into the blur of a near object.
+// Post-process DoF (stage 2), CoC and downsample: the signed CoC of every pixel (full resolution),
+// and colour and CoC at half resolution. The CoC of a 2x2 block is its nearest, so near silhouettes
+// grow rather than shrink; colours are weighted by how close their CoC is to it, so in-focus colour
+// does not bleed into the blur of a near object.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -1,7 +1,7 @@
-// Post-process DoF, gather (half resolution): scatter-as-gather (Jimenez 2014). Each pixel looks
-// at a disc of rings as wide as its tile's largest CoC and asks, of every tap, how much of the
-// tap's blur (its energy spread over its CoC disc, alpha = 1 / area) covers this pixel. Taps are
-// presorted into two layers:
+// Post-process DoF (stage 2), gather (half resolution): scatter-as-gather (Jimenez 2014). Each
+// pixel looks at a disc of rings as wide as its tile's largest CoC and asks, of every tap, how much
+// of the tap's blur (its energy spread over its CoC disc, alpha = 1 / area) covers this pixel. Taps
+// are presorted into two layers:
 //   near: the nearest near-field layer around the tile (CoCs close to the dilated tile's nearest),
 //         with its own radius: it spreads over what is behind it, in-focus pixels too (the
 //         silhouette spread). Its opacity is the energy that covers the centre (the weights

@@ -1,6 +1,6 @@
-// Post-process DoF, postfilter: a 3x3 median of both half-resolution layers, per channel. It
-// removes the isolated outliers of a sparse gather and keeps edges (bokeh rims, silhouettes). The
-// far layer's alpha (the CoC the composite weighs by) is kept, not filtered.
+// Post-process DoF (stage 2), postfilter: a 3x3 median of both half-resolution layers, per channel.
+// It removes the isolated outliers of a sparse gather and keeps edges (bokeh rims, silhouettes).
+// The far layer's alpha (the CoC the composite weighs by) is kept, not filtered.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

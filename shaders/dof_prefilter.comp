@@ -1,6 +1,6 @@
-// Post-process DoF, prefilter: a 9-tap disc of about the gather's ring spacing around each half-
-// resolution pixel, so that the sparse gather taps cannot miss a small bright highlight: its
-// energy spreads over the gap between taps and its bokeh comes out a filled disc, not dots.
+// Post-process DoF (stage 2), prefilter: a 9-tap disc of about the gather's ring spacing around
+// each half-resolution pixel, so that the sparse gather taps cannot miss a small bright highlight:
+// its energy spreads over the gap between taps and its bokeh comes out a filled disc, not dots.
 // Only similar CoCs mix, and no pixel gathers from further away than its own CoC.
 #version 460
 #extension GL_GOOGLE_include_directive : require

@@ -1,6 +1,7 @@
-// Post-process DoF, tiles: per tile of kDofTileSize pixels, the largest |CoC| and the nearest
-// (most negative) CoC. One thread per tile: a workgroup-wide reduction with barriers costs more
-// on a CPU device than these few loads.
+// Post-process DoF (stage 2), tiles: per tile of kDofTileSize pixels, the largest |CoC| and the
+// nearest (most negative) CoC. One thread per tile: a workgroup-wide reduction with barriers costs
+// more on a CPU device than these few loads. The ray mask (stage 3) runs it on its edges' reach
+// too, as the step ray_mask_tiles.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

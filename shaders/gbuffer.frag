@@ -1,5 +1,5 @@
-// G-buffer, visibility stage: which triangle covers the pixel centre. Shading happens once per
-// pixel in gbuffer_resolve.comp, with the same code the ray tracer runs.
+// G-buffer (stage 1), visibility step: which triangle covers the pixel centre. Shading happens once
+// per pixel in gbuffer_resolve.comp, with the same code the ray tracer runs.
 #version 460
 
 layout(location = 0) flat in uint inTriangle;

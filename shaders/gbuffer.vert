@@ -1,6 +1,6 @@
-// G-buffer, visibility stage: every triangle's three corners in a row (a non-indexed draw), so
-// the triangle's number is the vertex number / 3 on all three corners: no primitive-id support
-// needed, and the same value whichever corner is the provoking one.
+// G-buffer (stage 1), visibility step: every triangle's three corners in a row (a non-indexed
+// draw), so the triangle's number is the vertex number / 3 on all three corners: no primitive-id
+// support needed, and the same value whichever corner is the provoking one.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "lib/frame.glsl"

@@ -1,6 +1,7 @@
-// G-buffer, resolve stage: for the triangle the raster found at each pixel, the point the pixel
-// centre's ray hits, shaded with the shared shading function: sharp colour, its specular part,
-// normal and linear depth. The same ray through the same triangle gives the ray tracer's point.
+// G-buffer (stage 1), resolve step (timed as gbuffer): for the triangle the raster found at each
+// pixel, the point the pixel centre's ray hits, shaded with the shared shading function: sharp
+// colour, its specular part, normal and linear depth, and the motion vector. The same ray through
+// the same triangle gives the ray tracer's point.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,10 +1,10 @@
-// Hybrid composite: where the ray mask traced, the accumulated ray-traced layers joined by the
-// accumulated hit ratio, placed by the pixel's circle of confusion: in the focus zone the sharp
-// raster colour seen past the near layer; in the near field the ray-traced colour, except bright
-// specular bokeh where the post-process wins by the specular intensity; in the far field the
-// ray-traced colour where near geometry covers the pixel (hit ratio) and inside the traced
-// region, fading to the post-process over the last pixels before the mask's edge, so that the
-// edge leaves no seam. Where the mask did not trace, the post-process.
+// Hybrid composite (stage 7): where the ray mask traced, the ray-traced layers as the spatial
+// reconstruction (stage 6) left them, joined by the accumulated hit ratio and placed by the pixel's
+// circle of confusion: in the focus zone the sharp raster colour seen past the near layer; in the
+// near field the ray-traced colour, except bright specular bokeh where the post-process wins by the
+// specular intensity; in the far field the ray-traced colour where near geometry covers the pixel
+// (hit ratio) and inside the traced region, fading to the post-process over the last pixels before
+// the mask's edge, so that the edge leaves no seam. Where the mask did not trace, the post-process.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,9 +1,9 @@
-// Spatial reconstruction of the hybrid's ray-traced layers (the paper's pass after the temporal
-// accumulation): each traced pixel gathers its traced neighbours over a disc whose radius is the
-// pixel's circle of confusion (the average near and far CoC blended by the accumulated hit
-// ratio), rejecting neighbours whose own CoC is smaller than their distance (their blur does not
-// reach this pixel), and weighting them by how far their luminance lies from this pixel's in
-// units of the noise left in its average (the clamped variance of its rays over the rays
+// Spatial reconstruction of the hybrid's ray-traced layers (stage 6, after the temporal
+// accumulation, as in the paper): each traced pixel gathers its traced neighbours over a disc whose
+// radius is the pixel's circle of confusion (the average near and far CoC blended by the
+// accumulated hit ratio), rejecting neighbours whose own CoC is smaller than their distance (their
+// blur does not reach this pixel), and weighting them by how far their luminance lies from this
+// pixel's in units of the noise left in its average (the clamped variance of its rays over the rays
 // accumulated): a young, noisy pixel borrows from its neighbours, a converged one keeps its own
 // colour. One thread per pixel of the ray mask's work list.
 #version 460

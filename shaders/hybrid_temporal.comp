@@ -1,11 +1,11 @@
-// Temporal accumulation of the hybrid's ray-traced layers (exponential moving average, as in
-// TAA): the near layer reprojected with the motion vectors, the far layer through its average far
-// world position (the neighbours' where a pixel had no far hit), history rejected where the
+// Temporal accumulation of the hybrid's ray-traced layers (stage 5; an exponential moving average,
+// as in TAA): the near layer reprojected with the motion vectors, the far layer through its average
+// far world position (the neighbours' where a pixel had no far hit), history rejected where the
 // surface under the near reprojection changed depth (disocclusion) or on a cut, and, in motion,
 // clamped to the range of this frame's rays around the pixel, with a shorter window; luminance
-// moments give the variance that the next frame's ray mask reads, newly traced pixels counting
-// as noisy. One thread per pixel of the ray mask's work list; the others' history was cleared
-// (pixels the mask left out this frame drop their history).
+// moments give the variance that the next frame's ray mask (stage 3) reads, newly traced pixels
+// counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
+// cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;

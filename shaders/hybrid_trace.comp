@@ -1,8 +1,9 @@
-// Selective ray tracing of the hybrid: thin-lens rays only for the pixels of the ray mask's work
-// list, one thread per listed pixel. Each hit is split between a near and a far layer by its
-// circle of confusion (smoothly across the focus zone); per pixel the pass writes the layers'
-// average colours, the hit ratio (near rays / rays shot), the average far world position and
-// the average near and far CoC, for the temporal and spatial reconstruction.
+// Selective ray trace of the hybrid (stage 4): thin-lens rays only for the pixels of the ray mask's
+// work list, one thread per listed pixel. Each hit is split between a near and a far layer by its
+// circle of confusion (smoothly across the focus zone); per pixel the step writes the layers'
+// average colours, the hit ratio (near rays / rays shot), the average far world position and the
+// average near and far CoC, for the temporal accumulation and spatial reconstruction (stages 5 and
+// 6).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;

@@ -1,5 +1,5 @@
-// Ray mask, compaction: appends every pixel with rays to the work list and adds up their rays.
-// One atomic per subgroup and counter: a ballot gives each lane its slot among the subgroup's
+// Ray mask (stage 3), compaction: appends every pixel with rays to the work list and adds up their
+// rays. One atomic per subgroup and counter: a ballot gives each lane its slot among the subgroup's
 // entries.
 #version 460
 #extension GL_GOOGLE_include_directive : require

@@ -1,12 +1,12 @@
-// Ray mask, edges (like Canny): a 3x3 Gaussian of the G-buffer, then a Sobel kernel, folded into
-// one 5x5 derivative-of-Gaussian kernel per pixel. Normals take the Sobel gradient. Depth takes
-// the second difference of inverse depth instead: a receding floor has a steep depth gradient,
-// but its inverse depth is affine in screen space, so only real discontinuities remain; dividing
-// by the nearest inverse depth makes the jump relative, so edges count at every distance.
-// Only edges whose near side is out of focus need rays (partial occlusion), within that side's
-// CoC radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is.
-// In the far field only depth edges with a wide enough blur count: creases of a surface and
-// small background blurs are the post-process's.
+// Ray mask (stage 3), edges (like Canny): a 3x3 Gaussian of the G-buffer, then a Sobel kernel,
+// folded into one 5x5 derivative-of-Gaussian kernel per pixel. Normals take the Sobel gradient.
+// Depth takes the second difference of inverse depth instead: a receding floor has a steep depth
+// gradient, but its inverse depth is affine in screen space, so only real discontinuities remain;
+// dividing by the nearest inverse depth makes the jump relative, so edges count at every distance.
+// Only edges whose near side is out of focus need rays (partial occlusion), within that side's CoC
+// radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is. In the
+// far field only depth edges with a wide enough blur count: creases of a surface and small
+// background blurs are the post-process's.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -1,5 +1,6 @@
-// Ray mask, dispatch arguments: one kRayWorkGroupSize-wide workgroup per kRayWorkGroupSize
-// entries of the work list, for the selective ray tracer's vkCmdDispatchIndirect.
+// Ray mask (stage 3), dispatch arguments: one kRayWorkGroupSize-wide workgroup per
+// kRayWorkGroupSize entries of the work list, for the vkCmdDispatchIndirect of the steps that run
+// over the list (stages 4 to 6).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 1) in;

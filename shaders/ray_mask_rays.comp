@@ -1,9 +1,9 @@
-// Ray mask, spread along columns and ray counts: a pixel is within an edge's disc when a pixel
-// of its column reaches it (see ray_mask_spread.comp). Rays where an edge needs them or where
-// the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many
-// as the strongest edge asks for while the pixel is new to the mask, then as many as the
-// variance of its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for
-// their history to go on).
+// Ray mask (stage 3), spread along columns and ray counts: a pixel is within an edge's disc when a
+// pixel of its column reaches it (see ray_mask_spread.comp). Rays where an edge needs them or where
+// the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many as
+// the strongest edge asks for while the pixel is new to the mask, then as many as the variance of
+// its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their history to
+// go on).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

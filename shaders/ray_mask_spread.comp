@@ -1,9 +1,8 @@
-// Ray mask, spread along rows: the first half of a separable dilation of every edge pixel by a
-// disc of its own radius R (half its reach). A pixel p is within R of an edge pixel e exactly
-// when |p.y - e.y| <= sqrt(R^2 - (p.x - e.x)^2), so each pixel keeps the largest such half
-// height over the edge pixels of its row (x; -1: none) and their strongest edge (y). The pixel's
-// dilated tile bounds the search: all of an 8x8 workgroup lies in one tile, so the loop is
-// uniform.
+// Ray mask (stage 3), spread along rows: the first half of a separable dilation of every edge pixel
+// by a disc of its own radius R (half its reach). A pixel p is within R of an edge pixel e exactly
+// when |p.y - e.y| <= sqrt(R^2 - (p.x - e.x)^2), so each pixel keeps the largest such half height
+// over the edge pixels of its row (x; -1: none) and their strongest edge (y). The pixel's dilated
+// tile bounds the search: all of an 8x8 workgroup lies in one tile, so the loop is uniform.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

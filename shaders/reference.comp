@@ -1,6 +1,7 @@
-// Thin-lens ray tracing over the whole frame, accumulated progressively: each dispatch adds
-// sampleCount rays per pixel to a running sum (alpha counts the rays). The ground truth that the
-// other modes are measured against.
+// The one step of the raytrace and reference modes (in place of stages 1 to 7, timed under the
+// mode's name): thin-lens ray tracing over the whole frame, accumulated progressively: each
+// dispatch adds sampleCount rays per pixel to a running sum (alpha counts the rays). The ground
+// truth that the other modes are measured against.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,5 +1,5 @@
-// HDR radiance to 8-bit sRGB. The source's alpha is a sample count when it is not 1 (progressive
-// accumulation), so the colour is divided by it.
+// Output (stage 8): HDR radiance to 8-bit sRGB. The source's alpha is a sample count when it is not
+// 1 (progressive accumulation), so the colour is divided by it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -1,4 +1,5 @@
-// Helpers of the post-process depth of field passes (shaders/dof_*.comp). Needs lib/frame.glsl.
+// Helpers of the post-process depth of field (stage 2, shaders/dof_*.comp), also used by the ray
+// mask (stage 3). Needs lib/frame.glsl.
 #ifndef HDOF_LIB_DOF_GLSL
 #define HDOF_LIB_DOF_GLSL
 #include "shared/dof.h"

@@ -1,4 +1,4 @@
-// Set 1, binding 0: the frame uniforms every pass reads, and what follows from them.
+// Set 1, binding 0: the frame uniforms every step reads, and what follows from them.
 #ifndef HDOF_LIB_FRAME_GLSL
 #define HDOF_LIB_FRAME_GLSL
 #include "shared/frame.h"

@@ -1,4 +1,4 @@
-// Set 0: the scene, as every pass that reads it declares it.
+// Set 0: the scene, as every step that reads it declares it.
 #ifndef HDOF_LIB_SCENE_GLSL
 #define HDOF_LIB_SCENE_GLSL
 #extension GL_EXT_scalar_block_layout : require
