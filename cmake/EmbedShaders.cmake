@@ -1,6 +1,6 @@
 # Compiles GLSL to SPIR-V at build time and embeds the words in a static library.
-# Each shader `shaders/NAME.STAGE` becomes `hdof::shaders::NAME_STAGE` (see gpu/shader_registry.h);
-# a change to anything under shaders/shared/ recompiles the shaders that include it (depfiles).
+# Each shader `shaders/NAME.STAGE` is found by its file name with hdof::embeddedShader("NAME.STAGE")
+# (declared in gpu/program.h; embeddedShaderNames() lists them all); a change to anything under shaders/shared/ recompiles the shaders that include it (depfiles).
 function(hdof_embed_shaders target sources)
   set(gen_dir ${CMAKE_BINARY_DIR}/generated/shaders)
   file(MAKE_DIRECTORY ${gen_dir})

@@ -53,9 +53,9 @@ std::vector<ShaderBinding> bindingsOfSet(const std::string& name,
 void checkSceneBindings(const std::string& name, const std::vector<ShaderBinding>& declared,
                         const SetLayout& sceneSet) {
   for (const ShaderBinding& b : declared) {
-    auto match = std::find_if(
-        sceneSet.bindings.begin(), sceneSet.bindings.end(),
-        [&](const VkDescriptorSetLayoutBinding& s) { return s.binding == b.binding; });
+    auto match =
+        std::find_if(sceneSet.bindings.begin(), sceneSet.bindings.end(),
+                     [&](const VkDescriptorSetLayoutBinding& s) { return s.binding == b.binding; });
     if (match == sceneSet.bindings.end() || match->descriptorType != b.type ||
         match->descriptorCount != b.count)
       throw std::logic_error(name + ": scene binding '" + b.name + "' (" +
@@ -137,19 +137,18 @@ void ProgramLayout::bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint,
   for (const ShaderBinding& b : passBindings_) {
     auto given = std::find_if(binds.begin(), binds.end(),
                               [&](const Bind& bind) { return b.name == bind.name; });
-    if (given == binds.end())
-      throw std::logic_error(name_ + ": nothing bound to '" + b.name + "'");
-    if (std::find_if(given + 1, binds.end(), [&](const Bind& bind) {
-          return b.name == bind.name;
-        }) != binds.end())
+    if (given == binds.end()) throw std::logic_error(name_ + ": nothing bound to '" + b.name + "'");
+    if (std::find_if(given + 1, binds.end(),
+                     [&](const Bind& bind) { return b.name == bind.name; }) != binds.end())
       throw std::logic_error(name_ + ": '" + b.name + "' bound twice");
     VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
     write.dstBinding = b.binding;
     write.descriptorCount = 1;
     write.descriptorType = b.type;
     if (isImage(b.type) && given->image) {
-      VkSampler sampler =
-          b.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER ? context_->nearestSampler() : nullptr;
+      VkSampler sampler = b.type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                              ? context_->nearestSampler()
+                              : nullptr;
       write.pImageInfo = &images.emplace_back(
           VkDescriptorImageInfo{sampler, given->image->view(), VK_IMAGE_LAYOUT_GENERAL});
     } else if (isBuffer(b.type) && given->buffer) {

@@ -17,12 +17,18 @@ uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) {
   return (value + divisor - 1) / divisor;
 }
 
+// A CoC tile image of a w x h viewport: one texel per kDofTileSize pixels.
+gpu::Image makeTiles(gpu::ImageBatch& batch, uint32_t w, uint32_t h, const char* name) {
+  return batch.make(divideRoundingUp(w, gpu::kDofTileSize), divideRoundingUp(h, gpu::kDofTileSize),
+                    kPair, name);
+}
+
 }  // namespace
 
 GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h)
-    : visibility(batch.make(w, h, VK_FORMAT_R32_UINT, "visibility",
-                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
+    : visibility(
+          batch.make(w, h, VK_FORMAT_R32_UINT, "visibility", VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
       color(batch.make(w, h, kColor, "color")),
       specular(batch.make(w, h, kColor, "specular")),
       normalDepth(batch.make(w, h, kPrecise, "normal depth")),
@@ -38,11 +44,9 @@ GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context
 
 DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
   uint32_t halfW = divideRoundingUp(w, 2), halfH = divideRoundingUp(h, 2);
-  uint32_t tilesW = divideRoundingUp(w, gpu::kDofTileSize);
-  uint32_t tilesH = divideRoundingUp(h, gpu::kDofTileSize);
   coc = batch.make(w, h, kScalar, "dof coc");
-  tiles = batch.make(tilesW, tilesH, kPair, "dof tiles");
-  dilatedTiles = batch.make(tilesW, tilesH, kPair, "dof dilated tiles");
+  tiles = makeTiles(batch, w, h, "dof tiles");
+  dilatedTiles = makeTiles(batch, w, h, "dof dilated tiles");
   halfColorCoc = batch.make(halfW, halfH, kColor, "dof half colour");
   prefiltered = batch.make(halfW, halfH, kColor, "dof prefiltered");
   farLayer = batch.make(halfW, halfH, kColor, "dof far layer");
@@ -54,12 +58,10 @@ DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
 
 RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h) {
-  uint32_t tilesW = divideRoundingUp(w, gpu::kDofTileSize);
-  uint32_t tilesH = divideRoundingUp(h, gpu::kDofTileSize);
   reach = batch.make(w, h, kScalar, "ray mask reach");
   strength = batch.make(w, h, kScalar, "ray mask strength");
-  tiles = batch.make(tilesW, tilesH, kPair, "ray mask tiles");
-  dilatedTiles = batch.make(tilesW, tilesH, kPair, "ray mask dilated tiles");
+  tiles = makeTiles(batch, w, h, "ray mask tiles");
+  dilatedTiles = makeTiles(batch, w, h, "ray mask dilated tiles");
   spread = batch.make(w, h, kPair, "ray mask spread");
   rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
   workList = gpu::Buffer(context,

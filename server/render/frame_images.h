@@ -1,6 +1,6 @@
 // Every image and buffer one session's frame pipeline renders into, sized to its viewport, with
-// one owner: FrameImages, remade whole for a new viewport. The passes receive the images they read and
-// write; none owns any. All colour images stay in VK_IMAGE_LAYOUT_GENERAL (storage and sampled
+// one owner: FrameImages, remade whole for a new viewport. The passes receive the images they read
+// and write; none owns any. All colour images stay in VK_IMAGE_LAYOUT_GENERAL (storage and sampled
 // use) and start out zero. Half: half the viewport's size, rounded up; tiles: one texel per
 // kDofTileSize pixels.
 #pragma once

@@ -52,13 +52,15 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
   FrameRequest request;
   request.settings.width = width;
   request.settings.height = height;
-  gpu::FrameUniforms uniforms = makeFrameUniforms(scene, request.camera, request.lens, request.settings);
-  for (RenderMode mode : {RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::Hybrid,
-                          RenderMode::RayTrace}) {
+  gpu::FrameUniforms uniforms =
+      makeFrameUniforms(scene, request.camera, request.lens, request.settings);
+  for (RenderMode mode :
+       {RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::Hybrid, RenderMode::RayTrace}) {
     request.mode = mode;
     timer_.reset(commandBuffer_);
     record(commandBuffer_, request, uniforms, {});
   }
+  request.mode = RenderMode::Hybrid;
   request.view = DebugView::Mask;
   timer_.reset(commandBuffer_);
   record(commandBuffer_, request, uniforms, {});
@@ -102,15 +104,14 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
       break;
     case RenderMode::RayTrace:
     case RenderMode::Reference:
-      steps.dispatch(rayTrace_, {{"accumulation", im.accumulation}}, gpu::Grid::over(im.accumulation),
-                     rays, modeName(request.mode));
+      steps.dispatch(rayTrace_, {{"accumulation", im.accumulation}},
+                     gpu::Grid::over(im.accumulation), rays, modeName(request.mode));
       break;
   }
   steps.dispatch(tonemap_, {{"radiance", *radiance}, {"display", im.display}},
                  gpu::Grid::over(im.display));
-  steps.step("readback", [&](VkCommandBuffer cmd) {
-    gpu::copyImageToBuffer(cmd, im.display, im.readback);
-  });
+  steps.step("readback",
+             [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, im.display, im.readback); });
 }
 
 FrameStats FramePipeline::render(const FrameRequest& request) {
@@ -159,7 +160,10 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   previousViewProj_ = uniforms.viewProj;
   bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
   if (rayTraced) {
-    accumulation_ = {true, request.mode, request.camera, request.lens,
+    accumulation_ = {true,
+                     request.mode,
+                     request.camera,
+                     request.lens,
                      request.settings.samplesPerPixel,
                      (rays.accumulate ? accumulation_.samples : 0) + rays.sampleCount};
     stats.accumulatedSamples = accumulation_.samples;

@@ -80,7 +80,7 @@ class FramePipeline {
   // Linear view depth (metres, kBackgroundDepth where nothing is) of the last frame that ran
   // the G-buffer, row-major.
   std::vector<float> linearDepth();
-  // Motion vectors of the last frame that ran the G-buffer (see RenderTargets::motion).
+  // Motion vectors of the last frame that ran the G-buffer (see GBufferImages::motion).
   std::vector<glm::vec2> motionVectors();
   // Forgets the previous frame's view: the next frame's motion is zero (a camera cut).
   void cut() { previousViewProj_.reset(); }

@@ -35,8 +35,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
     gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
   });
   struct {
-    uint32_t reset;   // a cut or the first frame: no history at all
-    float minBlend;   // the moving average's weight of the new frame once history is long
+    uint32_t reset;  // a cut or the first frame: no history at all
+    float minBlend;  // the moving average's weight of the new frame once history is long
   } temporalPush{hasHistory_ ? 0u : 1u, 0.1f};
   steps.dispatch(temporal_,
                  {{"rays", m.rays},

@@ -13,8 +13,7 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
       median_(context, "dof_median.comp"),
       composite_(context, "dof_composite.comp") {}
 
-void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g,
-                            const DofImages& d) const {
+void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d) const {
   // One thread per half-resolution pixel, which also writes the CoC of its 2x2 pixels.
   steps.dispatch(downsample_,
                  {{"color", g.color},

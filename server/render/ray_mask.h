@@ -2,8 +2,9 @@
 // Edges of the filtered G-buffer (Sobel, like Canny) whose near side is out of focus, dilated per
 // pixel by that side's CoC disc (where partial occlusion shows), plus where the ray-traced
 // output's luminance variance is high. Steps (shaders/ray_mask_*.comp, and the post-process's
-// tile max and dilation run on the edges' reach): edges, tiles, dilate, spread, rays, compact,
-// indirect. Ends with a compacted work list of those pixels and its indirect dispatch arguments.
+// tile max and dilation run on the edges' reach): clear (the list's header), edges, tiles,
+// dilate, spread, rays, compact, indirect, readback (the header, for the frame's stats). Ends
+// with a compacted work list of those pixels and its indirect dispatch arguments.
 #pragma once
 
 #include "render/frame_images.h"

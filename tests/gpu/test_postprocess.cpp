@@ -146,8 +146,8 @@ float expectBokehDisc(float fNumber, uint32_t blades) {
   PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
   Lens lens{100.0f, fNumber, 2.0f, blades, 0.0f};
   PostProcessRig::Frame frame = rig.render(lens);
-  float coc =
-      std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), 2.0f, rig.uniforms.focalLengthPixels));
+  float coc = std::abs(
+      gpu::signedCocPixels(10.0f, lens.apertureDiameter(), 2.0f, rig.uniforms.focalLengthPixels));
   BrightRegion disc = measureBokeh(frame.blurredHdr, kWidth, kHeight, 0.5f * coc);
   SCOPED_TRACE("f/" + std::to_string(fNumber) + ", " + std::to_string(blades) + " blades, CoC " +
                std::to_string(coc) + " px, disc " + std::to_string(disc.width) + " x " +

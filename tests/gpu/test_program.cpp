@@ -58,14 +58,14 @@ TEST(ComputeProgram, ABindingThatDoesNotMatchTheShaderIsAnError) {
                     gpu::MemoryUse::Upload, "test frame");
   Recording recording;
   auto record = [&](std::initializer_list<gpu::Bind> binds, gpu::PushConstants push = {}) {
-    return errorOf([&] {
-      tiles.record(recording.cmd(), binds, gpu::Grid::over(images.dof.tiles), push);
-    });
+    return errorOf(
+        [&] { tiles.record(recording.cmd(), binds, gpu::Grid::over(images.dof.tiles), push); });
   };
   EXPECT_EQ(record({{"Frame", frame}, {"cocImage", images.dof.coc}, {"tiles", images.dof.tiles}}),
             "");
-  EXPECT_NE(record({{"Frame", frame}, {"cocImage", images.dof.coc}}).find("nothing bound to 'tiles'"),
-            std::string::npos);
+  EXPECT_NE(
+      record({{"Frame", frame}, {"cocImage", images.dof.coc}}).find("nothing bound to 'tiles'"),
+      std::string::npos);
   EXPECT_NE(record({{"Frame", frame},
                     {"cocImage", images.dof.coc},
                     {"tiles", images.dof.tiles},

@@ -30,9 +30,8 @@ class RayMaskRig {
         mask_(testContext()),
         uniformBuffer_(testContext(), sizeof(gpu::FrameUniforms),
                        VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, gpu::MemoryUse::Upload, "test uniforms"),
-        listReadback_(testContext(), images_.mask.workList.size(),
-                      VK_BUFFER_USAGE_TRANSFER_DST_BIT, gpu::MemoryUse::Readback,
-                      "test work list"),
+        listReadback_(testContext(), images_.mask.workList.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      gpu::MemoryUse::Readback, "test work list"),
         timer_(testContext()) {
     gbuffer_.bindImages(images_.gbuffer, width, height);
     camera_ = Camera::fromScene(scene_.scene.cameras.front());
@@ -214,7 +213,8 @@ TEST(RayMask, ReportsEveryPassTime) {
       times[i].second.push_back(result.passMs[i].second);
     }
   }
-  EXPECT_EQ(times.size(), 9u);  // clear, edges, tiles, dilate, spread, rays, compact, indirect, readback
+  EXPECT_EQ(times.size(),
+            9u);  // clear, edges, tiles, dilate, spread, rays, compact, indirect, readback
   double total = 0.0;
   std::printf("builtin:dof %ux%u f/1.4, median of %d frames:\n", kWidth, kHeight, kFrames);
   for (auto& [name, ms] : times) {
