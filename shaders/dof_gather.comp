@@ -33,13 +33,15 @@ float centerRadius;
 float centerInverseArea;  // 1 / r^2; the pi cancels out of every weight
 float nearestCoc;  // the dilated tile's
 float inverseLayerDepth;  // 1 / how far behind the nearest CoC a tap is still near layer
-float inverseRamp;
+float rampWidth;
 
 // A tap at `distance` covers the centre where its disc (radius scaled by the aperture's shape in
 // that direction) reaches it; the ramp is as wide as the tap spacing, so partial rings add up to
-// the disc's area and the disc edge does not step from ring to ring.
+// the disc's area and the disc edge does not step from ring to ring. It is never wider than the
+// disc: a nearly sharp tap covers its own pixel, not the ring around it (that would put an
+// in-focus silhouette's colour into the blurred background around it, a halo).
 float coverage(float radius, float distance) {
-  return saturate((radius - distance) * inverseRamp + 0.5);
+  return saturate((radius - distance) / min(rampWidth, radius) + 0.5);
 }
 
 // Aperture blades: the distance to the edge of a regular polygon of unit circumradius, seen from
@@ -108,7 +110,7 @@ void main() {
   }
   int rings = gatherRings(tileCoc);
   float spacing = ringSpacing(tileCoc);
-  inverseRamp = 1.0 / max(spacing, 1.0);
+  rampWidth = max(spacing, 1.0);
   centerRadius = halfResRadius(center.a);
   centerInverseArea = 1.0 / (centerRadius * centerRadius);
   nearestCoc = tile.y;

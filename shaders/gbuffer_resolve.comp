@@ -1,7 +1,10 @@
 // G-buffer (stage 1), resolve step (timed as gbuffer): for the triangle the raster found at each
-// pixel, the point the pixel centre's ray hits, shaded with the shared shading function: sharp
-// colour, its specular part, normal and linear depth, and the motion vector. The same ray through
-// the same triangle gives the ray tracer's point.
+// pixel, the point the ray through the raster's sample position hits, shaded with the shared
+// shading function: sharp colour, its specular part, normal and linear depth, and the motion
+// vector. The same ray through the same triangle gives the ray tracer's point. A view's first
+// frame samples pixel centres and writes everything; its later frames (jittered samples for the
+// anti-aliasing) write only colour and specular, so that depth, normals and the CoC the DoF steps
+// derive from them hold still, and a zero motion (the view has not moved).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -31,9 +34,12 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
   uint triangle = imageLoad(visibility, pixel).r;
+  bool firstSample = frame.rasterSample == 0u;
+  if (!firstSample) imageStore(outMotion, pixel, vec4(0.0));
   if (triangle == kNoTriangle) {
     imageStore(outColor, pixel, vec4(frame.skyColor, 1.0));
     imageStore(outSpecular, pixel, vec4(0.0));
+    if (!firstSample) return;
     imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
     imageStore(outMotion, pixel, vec4(motionTo(vec4(pinholeDirection(vec2(pixel) + 0.5), 0.0),
                                                pixel), 0.0, 0.0));
@@ -45,7 +51,7 @@ void main() {
   vec3 a = vertexPosition(corners.x);
   vec3 edge1 = vertexPosition(corners.y) - a;
   vec3 edge2 = vertexPosition(corners.z) - a;
-  vec3 direction = pinholeDirection(vec2(pixel) + 0.5);
+  vec3 direction = pinholeDirection(vec2(pixel) + 0.5 + frame.rasterJitter);
   vec3 p = cross(direction, edge2);
   float det = dot(edge1, p);
   float inverseDet = abs(det) > 1e-20 ? 1.0 / det : 0.0;
@@ -59,6 +65,7 @@ void main() {
   vec3 color = shadeSurface(s, toEye / distance, distance * pixelAngle(), specular);
   imageStore(outColor, pixel, vec4(color, 1.0));
   imageStore(outSpecular, pixel, vec4(specular, 1.0));
+  if (!firstSample) return;
   float linearDepth = dot(s.position - frame.eye, frame.forward);
   imageStore(outNormalDepth, pixel, vec4(normalize(s.normal), linearDepth));
   imageStore(outMotion, pixel, vec4(motionTo(vec4(s.position, 1.0), pixel), 0.0, 0.0));

@@ -155,6 +155,15 @@ void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& bu
                 VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
 }
 
+void copyImage(VkCommandBuffer cmd, const Image& source, const Image& destination) {
+  VkImageCopy region{};
+  region.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.dstSubresource = region.srcSubresource;
+  region.extent = {source.width(), source.height(), 1};
+  vkCmdCopyImage(cmd, source.get(), VK_IMAGE_LAYOUT_GENERAL, destination.get(),
+                 VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+}
+
 void copyBufferToHost(VkCommandBuffer cmd, const Buffer& source, const Buffer& destination,
                       VkDeviceSize bytes) {
   memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,

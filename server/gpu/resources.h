@@ -145,6 +145,10 @@ class ImageBatch {
 // rows), after all earlier writes and before the host reads it.
 void copyImageToBuffer(VkCommandBuffer cmd, const Image& image, const Buffer& buffer);
 
+// Copies a single-level colour image to another of the same size and format, both in
+// VK_IMAGE_LAYOUT_GENERAL; ordering against other work is the caller's (a step's barrier).
+void copyImage(VkCommandBuffer cmd, const Image& source, const Image& destination);
+
 // Copies the first `bytes` of a buffer to a host-readable one, after all earlier writes and
 // before the host reads it.
 void copyBufferToHost(VkCommandBuffer cmd, const Buffer& source, const Buffer& destination,

@@ -29,7 +29,9 @@ GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context
                              uint32_t h)
     : visibility(
           batch.make(w, h, VK_FORMAT_R32_UINT, "visibility", VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
+      rasterColor(batch.make(w, h, kColor, "raster color")),
       color(batch.make(w, h, kColor, "color")),
+      colorHistory(batch.make(w, h, kColor, "color history")),
       specular(batch.make(w, h, kColor, "specular")),
       normalDepth(batch.make(w, h, kPrecise, "normal depth")),
       motion(batch.make(w, h, kPair, "motion")) {

@@ -16,8 +16,10 @@ struct GBufferImages {
   GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
   gpu::Image visibility;   // r32ui: the triangle seen at each pixel centre
   gpu::Image depth;        // d32: the raster's depth buffer
-  gpu::Image color;        // rgba16f: sharp shaded colour (HDR)
-  gpu::Image specular;     // rgba16f: its specular part
+  gpu::Image rasterColor;   // rgba16f: this frame's shaded raster sample (HDR)
+  gpu::Image color;         // rgba16f: the sharp colour, anti-aliased over frames (HDR)
+  gpu::Image colorHistory;  // rgba16f: the previous frame's `color`
+  gpu::Image specular;      // rgba16f: the specular part of this frame's sample
   gpu::Image normalDepth;  // rgba32f: world normal, linear view depth (metres)
   // rg16f: where each pixel's surface was in the previous frame, in pixels from the pixel (for
   // the sky: where its direction was)

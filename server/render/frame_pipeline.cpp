@@ -11,6 +11,23 @@ constexpr VkCommandBufferBeginInfo kOneTimeSubmit{VK_STRUCTURE_TYPE_COMMAND_BUFF
                                                   nullptr,
                                                   VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT};
 
+// Point i of the Halton sequence in base b, in [0, 1).
+float halton(uint32_t i, uint32_t base) {
+  float scale = 1.0f, result = 0.0f;
+  for (; i > 0; i /= base) {
+    scale /= float(base);
+    result += scale * float(i % base);
+  }
+  return result;
+}
+
+// The raster's sample position for the n-th frame of a still view, from the pixel centre: the
+// centre first, then the (2, 3) Halton points, kMaxRasterSamples in all.
+glm::vec2 rasterJitter(uint32_t sample) {
+  uint32_t i = sample % gpu::kMaxRasterSamples;
+  return i == 0 ? glm::vec2(0.0f) : glm::vec2(halton(i, 2), halton(i, 3)) - 0.5f;
+}
+
 bool sameView(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov;
 }
@@ -91,7 +108,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
     case RenderMode::Pinhole:
     case RenderMode::PostProcess:
     case RenderMode::Hybrid:
-      gbuffer_.record(steps, im.gbuffer, uniforms.viewProj);
+      gbuffer_.record(steps, im.gbuffer, uniforms.viewProj, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
         postProcess_.record(steps, im.gbuffer, im.dof);
@@ -120,6 +137,12 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   gpu::FrameUniforms uniforms =
       makeFrameUniforms(scene_, request.camera, request.lens, request.settings);
   uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
+  bool raster = request.mode == RenderMode::Pinhole || request.mode == RenderMode::PostProcess ||
+                request.mode == RenderMode::Hybrid;
+  bool stillRaster = raster_.valid && sameView(raster_.camera, request.camera) &&
+                     request.settings.pixelJitter;
+  uniforms.rasterSample = stillRaster ? raster_.samples : 0;
+  uniforms.rasterJitter = rasterJitter(uniforms.rasterSample);
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
 
   // raytrace accumulates while the camera and lens stay the same and starts over when they
@@ -158,6 +181,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
 
   previousViewProj_ = uniforms.viewProj;
+  if (raster) raster_ = {true, request.camera, uniforms.rasterSample + 1};
   bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
   if (rayTraced) {
     accumulation_ = {true,

@@ -62,9 +62,11 @@ class FramePipeline {
                              const std::function<void(uint32_t)>& onProgress = {});
   // Remakes the images for a new viewport (waits for the GPU first); the history starts over.
   void resize(uint32_t width, uint32_t height);
-  // Forgets the temporal history: the next raytrace frame starts a new accumulation.
+  // Forgets the temporal history: the next frame starts every accumulation over (the raster's
+  // anti-aliasing, hybrid and raytrace).
   void resetHistory() {
     accumulation_.valid = false;
+    raster_.valid = false;
     hybrid_.resetHistory();
   }
   uint32_t width() const { return images_->width; }
@@ -83,7 +85,10 @@ class FramePipeline {
   // Motion vectors of the last frame that ran the G-buffer (see GBufferImages::motion).
   std::vector<glm::vec2> motionVectors();
   // Forgets the previous frame's view: the next frame's motion is zero (a camera cut).
-  void cut() { previousViewProj_.reset(); }
+  void cut() {
+    previousViewProj_.reset();
+    raster_.valid = false;
+  }
 
  private:
   const gpu::Context& context_;
@@ -108,6 +113,13 @@ class FramePipeline {
               const gpu::RayTraceRays& rays);
   // The bytes of an image (tightly packed rows), after the GPU is idle.
   const void* readImage(const gpu::Image& image, uint32_t bytesPerPixel);
+
+  // What the raster's anti-aliased colour holds: samples of one view (lens changes keep it).
+  struct RasterHistory {
+    bool valid = false;
+    Camera camera;
+    uint32_t samples = 0;
+  } raster_;
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {

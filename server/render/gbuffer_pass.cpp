@@ -86,7 +86,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
       runs_(buildTriangleRuns(cpuScene)),
       renderPass_(createRenderPass(context)),
       layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
-      resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()) {
+      resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
+      antialias_(context, "antialias.comp") {
   gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
   gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
   VkPipelineShaderStageCreateInfo stages[2] = {};
@@ -173,7 +174,7 @@ void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32
 }
 
 void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
-                         const glm::mat4& viewProj) const {
+                         const glm::mat4& viewProj, bool historyValid) const {
   steps.step("visibility", [&](VkCommandBuffer cmd) {
     VkClearValue clears[2] = {};
     clears[0].color.uint32[0] = kNoTriangle;
@@ -202,11 +203,21 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
   });
   steps.dispatch(resolve_,
                  {{"visibility", images.visibility},
-                  {"outColor", images.color},
+                  {"outColor", images.rasterColor},
                   {"outSpecular", images.specular},
                   {"outNormalDepth", images.normalDepth},
                   {"outMotion", images.motion}},
                  gpu::Grid::over(images.color), {}, "gbuffer");
+  steps.step("antialias_history", [&](VkCommandBuffer cmd) {
+    gpu::copyImage(cmd, images.color, images.colorHistory);
+  });
+  uint32_t valid = historyValid ? 1u : 0u;
+  steps.dispatch(antialias_,
+                 {{"rasterColor", images.rasterColor},
+                  {"history", images.colorHistory},
+                  {"motion", images.motion},
+                  {"outColor", images.color}},
+                 gpu::Grid::over(images.color), valid);
 }
 
 }  // namespace hdof

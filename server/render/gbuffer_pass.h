@@ -1,7 +1,8 @@
-// The G-buffer, in two steps: a raster visibility pass (shaders/gbuffer.vert, .frag) writes the
-// triangle seen at each pixel centre, then a compute resolve (gbuffer_resolve.comp) shades that
-// point once per pixel with the shading code the ray tracer uses, into colour, specular,
-// normal/depth and motion.
+// The G-buffer, in three steps: a raster visibility pass (shaders/gbuffer.vert, .frag) writes the
+// triangle seen at each pixel's sample position, a compute resolve (gbuffer_resolve.comp) shades
+// that point once per pixel with the shading code the ray tracer uses, into colour, specular,
+// normal/depth and motion, and the anti-aliasing (antialias.comp) accumulates the colour over
+// frames: jittered samples while the view rests, reprojected history while it moves.
 #pragma once
 
 #include "render/frame_images.h"
@@ -16,9 +17,11 @@ class GBufferPass {
 
   // Makes the framebuffer for a new set of images (call after they change).
   void bindImages(const GBufferImages& images, uint32_t width, uint32_t height);
-  // The steps "visibility" and "gbuffer" (the resolve). viewProj: the frame uniforms', for
-  // culling on the CPU.
-  void record(StepRecorder& steps, const GBufferImages& images, const glm::mat4& viewProj) const;
+  // The steps "visibility", "gbuffer" (the resolve) and "antialias". viewProj: the frame
+  // uniforms', for culling on the CPU. historyValid: images.color holds the previous frame's
+  // anti-aliased colour (false after a cut or on a new viewport).
+  void record(StepRecorder& steps, const GBufferImages& images, const glm::mat4& viewProj,
+              bool historyValid) const;
 
  private:
   const gpu::Context& context_;
@@ -29,7 +32,7 @@ class GBufferPass {
   VkExtent2D extent_{};
   gpu::ProgramLayout layout_;
   gpu::Pipeline pipeline_;
-  gpu::ComputeProgram resolve_;
+  gpu::ComputeProgram resolve_, antialias_;
 };
 
 }  // namespace hdof

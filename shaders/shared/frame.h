@@ -30,7 +30,11 @@ struct FrameUniforms {
   float fNumber;
   float bladeCount;     // aperture blades, 0: a circle
   float bladeRotation;  // radians
-  float unused0, unused1, unused2;
+  // The raster's anti-aliasing: how many samples of this view the G-buffer has accumulated before
+  // this frame's (0: a new view, sampled at pixel centres), and this frame's sample position as
+  // an offset from the pixel centre, in pixels.
+  uint rasterSample;
+  vec2 rasterJitter;
   vec3 skyColor;  // ambient light from above (linear RGB)
   float exposure;
   vec3 groundColor;  // ambient light from below
@@ -48,6 +52,10 @@ struct FrameUniforms {
 HDOF_CONST uint kSequenceReference = 0;
 HDOF_CONST uint kSequenceRayTrace = 1;
 HDOF_CONST uint kSequenceHybrid = 2;
+
+// The raster's samples of a still view are averaged up to this many; later ones go on as a
+// moving average over as many (the jitter sequence repeats).
+HDOF_CONST uint kMaxRasterSamples = 64;
 
 // Push constants of reference.comp (the reference and raytrace modes).
 struct RayTraceRays {
@@ -85,6 +93,7 @@ static_assert(offsetof(hdof::gpu::FrameUniforms, focalLengthPixels) == 128 + 4 *
 static_assert(offsetof(hdof::gpu::FrameUniforms, exposure) == 128 + 6 * 16 + 12);
 static_assert(offsetof(hdof::gpu::FrameUniforms, imageSize) == 128 + 8 * 16);
 static_assert(offsetof(hdof::gpu::FrameUniforms, lightCount) == 128 + 9 * 16);
+static_assert(offsetof(hdof::gpu::FrameUniforms, rasterJitter) == 128 + 5 * 16 + 8);
 static_assert(sizeof(hdof::gpu::RayTraceRays) == 16);
 #endif
 

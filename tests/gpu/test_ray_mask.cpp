@@ -60,7 +60,7 @@ class RayMaskRig {
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
       StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
-      gbuffer_.record(steps, images_.gbuffer, uniforms.viewProj);
+      gbuffer_.record(steps, images_.gbuffer, uniforms.viewProj, false);
     });
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);

@@ -1,0 +1,73 @@
+// The raster's anti-aliasing: while the view rests, jittered G-buffer samples average into a
+// supersampled image; a lens change keeps that average (the raster does not depend on the lens);
+// a camera move starts over from pixel centres.
+#include "render_fixture.h"
+
+#include <gtest/gtest.h>
+
+namespace hdof::test {
+namespace {
+
+constexpr uint32_t kWidth = 240, kHeight = 135;
+
+RenderSpec view(RenderMode mode) {
+  RenderSpec spec;
+  spec.scene = kLivingRoom;
+  spec.camera = "closeup";
+  spec.width = kWidth;
+  spec.height = kHeight;
+  spec.mode = mode;
+  spec.lens = Lens{50.0f, 1e6f, 2.4f};  // a pinhole: only the raster's sampling differs
+  return spec;
+}
+
+// The pinhole image supersampled: 64 jittered rays per pixel.
+const ImageRgba8& supersampled() {
+  static const ImageRgba8 image = [] {
+    RenderSpec spec = view(RenderMode::Reference);
+    spec.raysPerPixel = 64;
+    return renderImage(spec);
+  }();
+  return image;
+}
+
+TEST(AntiAliasing, AStillViewConvergesToTheSupersampledImage) {
+  RenderSpec spec = view(RenderMode::Pinhole);
+  double first = compareImages(renderImage(spec), supersampled()).psnrDb;
+  spec.frames = 16;
+  double sixteen = compareImages(renderImage(spec), supersampled()).psnrDb;
+  std::printf("pinhole against its supersampled image: 1 frame %.2f dB, 16 frames %.2f dB\n",
+              first, sixteen);
+  EXPECT_GT(sixteen, first + 4.0);
+  EXPECT_GT(sixteen, 29.0);
+}
+
+TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
+  SceneOnGpu& scene = testScene(kLivingRoom);
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
+  FrameRequest request;
+  request.mode = RenderMode::PostProcess;
+  request.camera = Camera::fromScene(*scene.scene.findCamera("closeup"));
+  request.lens = Lens{50.0f, 1e6f, 2.4f};
+  request.settings.width = kWidth;
+  request.settings.height = kHeight;
+  for (int i = 0; i < 16; ++i) pipeline.render(request);
+  double settled = compareImages(pipeline.image(), supersampled()).psnrDb;
+  request.lens.focusDistance = 3.0f;  // a focus pull: still a pinhole, same raster
+  pipeline.render(request);
+  double afterFocus = compareImages(pipeline.image(), supersampled()).psnrDb;
+  EXPECT_GT(afterFocus, settled - 0.5) << "the focus pull kept the raster's samples";
+
+  Camera moved = request.camera;
+  moved.position += moved.up * 0.01f;
+  request.camera = moved;
+  pipeline.render(request);
+  request.camera = Camera::fromScene(*scene.scene.findCamera("closeup"));
+  pipeline.cut();
+  pipeline.render(request);
+  double restarted = compareImages(pipeline.image(), supersampled()).psnrDb;
+  EXPECT_LT(restarted, settled - 3.0) << "after a cut the view starts from one sample again";
+}
+
+}  // namespace
+}  // namespace hdof::test
