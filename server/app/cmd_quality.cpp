@@ -1,19 +1,23 @@
-// hdof quality: each mode against a converged thin-lens reference, over the whole image and over
-// the partial-occlusion region, with its frame time.
+// hdof quality: each mode against a converged thin-lens reference, over the whole image, the
+// partial-occlusion region and the in-focus edge band, with its frame time; and, with
+// --budget-ms, each mode given the same wall-clock time on this machine.
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/quality_motion.h"
 #include "app/render_setup.h"
 #include "encode/image_file.h"
-#include "quality/occlusion_mask.h"
+#include "quality/gbuffer_geometry.h"
+#include "quality/quality_regions.h"
 #include "quality/reference_image.h"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <optional>
 
 namespace hdof {
@@ -29,15 +33,128 @@ struct Row {
   std::string label, file;
   RenderMode mode;
   uint32_t raysPerPixel, frames;
-  ImageComparison whole, occluded;
+  QualityScores scores;
   double msPerFrame;
 };
+
+// One mode given one wall-clock budget.
+struct BudgetRow {
+  RenderMode mode;
+  uint32_t raysPerPixel;  // ray-traced modes; 0 otherwise
+  uint32_t budgetMs, frames;
+  double elapsedMs;
+  QualityScores scores;
+};
+
+constexpr uint32_t kMaxBudgetMs = 60000;
+
+// "250,1000,3000": each a whole number of milliseconds from 1 to kMaxBudgetMs.
+std::vector<uint32_t> parseBudgets(const std::string& list) {
+  std::vector<uint32_t> budgets;
+  for (size_t start = 0; start <= list.size();) {
+    size_t end = std::min(list.find(',', start), list.size());
+    std::string item = list.substr(start, end - start);
+    bool digits =
+        !item.empty() && item.size() <= 9 &&
+        std::all_of(item.begin(), item.end(), [](char c) { return c >= '0' && c <= '9'; });
+    unsigned long ms = digits ? std::stoul(item) : 0;
+    if (ms < 1 || ms > kMaxBudgetMs)
+      throw UsageError("--budget-ms: '" + item +
+                       "' is not a whole number of milliseconds from 1 to " +
+                       std::to_string(kMaxBudgetMs) + " (e.g. --budget-ms 250,1000,3000)");
+    budgets.push_back(uint32_t(ms));
+    start = end + 1;
+  }
+  return budgets;
+}
 
 std::string formatDb(double db) {
   if (std::isinf(db)) return "inf";
   char text[32];
   std::snprintf(text, sizeof(text), "%.2f", db);
   return text;
+}
+
+std::string formatSsim(double ssim) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.4f", ssim);
+  return text;
+}
+
+// " psnr_db=... ssim=... psnr_occl_db=... ssim_occl=... psnr_edge_db=... ssim_edge=..." ("none"
+// for an empty region).
+std::string formatScores(const QualityScores& s) {
+  auto db = [](const std::optional<ImageComparison>& c) {
+    return c ? formatDb(c->psnrDb) : std::string("none");
+  };
+  auto ssim = [](const std::optional<ImageComparison>& c) {
+    return c ? formatSsim(c->ssim) : std::string("none");
+  };
+  return " psnr_db=" + formatDb(s.whole.psnrDb) + " ssim=" + formatSsim(s.whole.ssim) +
+         " psnr_occl_db=" + db(s.occlusion) + " ssim_occl=" + ssim(s.occlusion) +
+         " psnr_edge_db=" + db(s.edge) + " ssim_edge=" + ssim(s.edge);
+}
+
+// The same figures as JSON members (null for an empty region, or an infinite PSNR).
+void addScores(nlohmann::json& out, const QualityScores& s) {
+  auto db = [](double v) { return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+  out["psnr_db"] = db(s.whole.psnrDb);
+  out["ssim"] = s.whole.ssim;
+  out["psnr_occl_db"] = s.occlusion ? db(s.occlusion->psnrDb) : nullptr;
+  out["ssim_occl"] = s.occlusion ? nlohmann::json(s.occlusion->ssim) : nullptr;
+  out["psnr_edge_db"] = s.edge ? db(s.edge->psnrDb) : nullptr;
+  out["ssim_edge"] = s.edge ? nlohmann::json(s.edge->ssim) : nullptr;
+}
+
+uint32_t raysOf(RenderMode mode, uint32_t rays) {
+  return mode == RenderMode::Hybrid || mode == RenderMode::RayTrace ? rays : 0;
+}
+
+// Each mode renders the still view frame after frame from a fresh start (no history, a new
+// accumulation) until `budget` ms of wall-clock time (FramePipeline::render plus the readback of
+// the image, steady clock) have passed; its last frame is compared with the reference. The
+// pipeline renders one frame of each mode first, so that no first-use cost is timed.
+std::vector<BudgetRow> measureBudgets(FramePipeline& pipeline, FrameRequest request,
+                                      const std::vector<RenderMode>& modes, uint32_t rays,
+                                      const std::vector<uint32_t>& budgets,
+                                      const ImageRgba8& reference, const QualityRegions& regions) {
+  using Clock = std::chrono::steady_clock;
+  for (RenderMode mode : modes) {  // warm-up, untimed
+    request.mode = mode;
+    request.settings.samplesPerPixel = std::max(raysOf(mode, rays), 1u);
+    request.settings.frameIndex = 0;
+    pipeline.resetHistory();
+    pipeline.render(request);
+    (void)pipeline.image();
+  }
+  uint64_t total =
+      uint64_t(std::accumulate(budgets.begin(), budgets.end(), uint64_t(0))) * modes.size();
+  Progress progress("equal time", total);
+  uint64_t done = 0;
+  std::vector<BudgetRow> rows;
+  for (RenderMode mode : modes) {
+    for (uint32_t budget : budgets) {
+      request.mode = mode;
+      request.settings.samplesPerPixel = std::max(raysOf(mode, rays), 1u);
+      pipeline.resetHistory();
+      pipeline.cut();
+      ImageRgba8 image;
+      uint32_t frames = 0;
+      double elapsedMs = 0.0;
+      while (elapsedMs < double(budget)) {
+        request.settings.frameIndex = ++frames;
+        Clock::time_point start = Clock::now();
+        pipeline.render(request);
+        image = pipeline.image();
+        elapsedMs += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        progress.update(done + uint64_t(std::min(elapsedMs, double(budget))));
+      }
+      done += budget;
+      rows.push_back({mode, raysOf(mode, rays), budget, frames, elapsedMs,
+                      scoreImage(image, reference, regions)});
+    }
+  }
+  return rows;
 }
 
 }  // namespace
@@ -49,23 +166,29 @@ int runQuality(std::span<const std::string> args) {
   std::string size = "640x360", outDir = "out/quality";
   ReferenceOptions referenceOptions;
   std::string referencePath, modes = "pinhole,postprocess,hybrid,raytrace", cameraPathFile;
+  std::string budgetList;
   uint32_t rays = 4, frames = 32;
   bool json = false;
   ArgParser parser(
       "quality", "[options]",
       "Renders a converged thin-lens reference, then each mode, and prints one line per mode:\n"
-      "PSNR and SSIM against the reference over the whole image and over the partial-occlusion\n"
-      "region (pixels within the near-field CoC of a depth edge whose near side is out of focus),\n"
-      "and the GPU time per frame. Images and the region mask go to --out. For the paper's view:\n"
+      "PSNR and SSIM against the reference over the whole image (psnr_db, ssim), over the\n"
+      "partial-occlusion region (_occl: pixels within the near-field CoC of a depth edge whose\n"
+      "near side is out of focus) and over the in-focus edge band (_edge: pixels within 3 px of a\n"
+      "depth or normal edge whose sharper side's CoC is under 2 px, outside the occlusion "
+      "region),\n"
+      "and the GPU time per frame. Images and the two region masks (occlusion-mask.png,\n"
+      "edge-mask.png) go to --out. For the paper's view:\n"
       "  hdof quality --scene assets/scenes/living-room/living-room.gltf --camera closeup \\\n"
       "    --focus-distance 2.4 --f-number 1.4 --focal-length 50\n"
-      "With --camera-path, the modes render the path's frames in motion instead, and are compared\n"
-      "at four of them with references of those views (256 rays per pixel unless "
-      "--reference-spp).");
+      "With --budget-ms, each mode also gets each budget of wall-clock time on this machine from\n"
+      "a fresh start, and its last frame is compared (equal time). With --camera-path, the modes\n"
+      "render the path's frames in motion instead, and are compared at four of them with\n"
+      "references of those views (256 rays per pixel unless --reference-spp).");
   addSceneOptions(parser, sceneOptions);
   addLensOptions(parser, lensOptions);
   parser.option("--size", "WxH", "image size (default 640x360)", &size);
-  parser.option("--out", "DIR", "folder for the images and the mask (default out/quality)",
+  parser.option("--out", "DIR", "folder for the images and the region masks (default out/quality)",
                 &outDir);
   parser.option("--reference-spp", "N",
                 "reference rays per pixel; default: doubled from 16 until converged",
@@ -90,6 +213,10 @@ int runQuality(std::span<const std::string> args) {
                 "measure in motion along these keyframes (see hdof render --camera-path)",
                 &cameraPathFile);
   parser.option("--frames", "N", "frames along --camera-path (default 32)", &frames);
+  parser.option("--budget-ms", "MS,...",
+                "equal time: also render each mode for each wall-clock budget (1 to 60000 ms "
+                "each, e.g. 250,1000,3000) and compare its last frame",
+                &budgetList);
   parser.flag("--json", "print the results as one JSON object", &json);
   if (!parser.parse(args)) return 0;
   Size2 imageSize = parseSize(size, 4096);
@@ -105,8 +232,12 @@ int runQuality(std::span<const std::string> args) {
     modeList.push_back(*mode);
     start = end + 1;
   }
+  std::vector<uint32_t> budgets;
+  if (parser.given("--budget-ms")) budgets = parseBudgets(budgetList);
   std::optional<CameraPath> path;
   if (!cameraPathFile.empty()) {
+    if (!budgets.empty())
+      throw UsageError("--budget-ms measures the still view: it cannot go with --camera-path");
     if (!referencePath.empty())
       throw UsageError("--reference is a still's reference: it cannot go with --camera-path");
     if (frames < 4 || frames > 100000) throw UsageError("--frames must be 4 to 100000");
@@ -148,18 +279,17 @@ int runQuality(std::span<const std::string> args) {
     return (std::filesystem::path(outDir) / name).string();
   };
 
-  // The partial-occlusion region from the pinhole depth.
+  // The partial-occlusion region and the in-focus edge band from the pinhole G-buffer.
   request.mode = RenderMode::Pinhole;
   pipeline.render(request);
   CocParameters coc =
       cocParameters(request.camera, request.lens, imageSize.width, imageSize.height);
-  std::vector<uint8_t> region =
-      occlusionMask(pipeline.linearDepth(), imageSize.width, imageSize.height, coc);
-  ImageRgba8 regionImage = maskImage(region, imageSize.width, imageSize.height);
-  writeImage(outPath("occlusion-mask.png"), regionImage);
-  bool hasRegion = maskCount(region) > 0;
+  QualityRegions regions = qualityRegions(readGBufferGeometry(setup.context, pipeline),
+                                          imageSize.width, imageSize.height, coc);
+  writeImage(outPath("occlusion-mask.png"), regions.occlusion);
+  writeImage(outPath("edge-mask.png"), regions.edge);
 
-  if (hasRegion) referenceOptions.region = &regionImage;
+  if (regions.occlusionPixels) referenceOptions.region = &regions.occlusion;
   ReferenceImage reference;
   if (!referencePath.empty()) {
     reference.image = readImage(referencePath);
@@ -191,7 +321,7 @@ int runQuality(std::span<const std::string> args) {
       if (std::find(run.reportAfterFrames.begin(), run.reportAfterFrames.end(), frame) ==
           run.reportAfterFrames.end())
         continue;
-      Row row{modeName(run.mode), "", run.mode, run.raysPerPixel, frame, {}, {}, median(frameMs)};
+      Row row{modeName(run.mode), "", run.mode, run.raysPerPixel, frame, {}, median(frameMs)};
       char file[96];
       if (run.raysPerPixel)
         std::snprintf(file, sizeof(file), "%s-%urpp-%uf.png", row.label.c_str(), run.raysPerPixel,
@@ -201,11 +331,15 @@ int runQuality(std::span<const std::string> args) {
       row.file = file;
       ImageRgba8 image = pipeline.image();
       writeImage(outPath(row.file), image);
-      row.whole = compareImages(image, reference.image);
-      if (hasRegion) row.occluded = compareImages(image, reference.image, &regionImage);
+      row.scores = scoreImage(image, reference.image, regions);
       rows.push_back(row);
     }
   }
+  request.settings.frameIndex = 0;
+  std::vector<BudgetRow> budgetRows;
+  if (!budgets.empty())
+    budgetRows =
+        measureBudgets(pipeline, request, modeList, rays, budgets, reference.image, regions);
 
   if (json) {
     nlohmann::json out;
@@ -217,37 +351,53 @@ int runQuality(std::span<const std::string> args) {
                           {"last_step_region_psnr_db", reference.lastStepRegionDb},
                           {"converged", reference.converged},
                           {"verdict", reference.verdict()}};
-    out["occlusion_pixels"] = maskCount(region);
+    out["occlusion_pixels"] = regions.occlusionPixels;
+    out["edge_pixels"] = regions.edgePixels;
     out["focus_distance"] = request.lens.focusDistance;
     out["f_number"] = request.lens.fNumber;
     out["focal_length_mm"] = request.lens.focalLengthMm;
     for (const Row& r : rows) {
-      auto db = [](double v) {
-        return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v);
-      };
-      out["modes"].push_back({{"mode", r.label},
-                              {"rays_per_pixel", r.raysPerPixel},
-                              {"frames", r.frames},
-                              {"psnr_db", db(r.whole.psnrDb)},
-                              {"ssim", r.whole.ssim},
-                              {"psnr_occl_db", hasRegion ? db(r.occluded.psnrDb) : nullptr},
-                              {"ssim_occl", hasRegion ? nlohmann::json(r.occluded.ssim) : nullptr},
-                              {"ms_per_frame", r.msPerFrame},
-                              {"image", outPath(r.file)}});
+      nlohmann::json row = {
+          {"mode", r.label}, {"rays_per_pixel", r.raysPerPixel}, {"frames", r.frames}};
+      addScores(row, r.scores);
+      row["ms_per_frame"] = r.msPerFrame;
+      row["image"] = outPath(r.file);
+      out["modes"].push_back(row);
+    }
+    if (!budgets.empty()) {
+      out["budgets"] = nlohmann::json::array();
+      for (const BudgetRow& b : budgetRows) {
+        nlohmann::json row = {{"mode", modeName(b.mode)},
+                              {"rays_per_pixel", b.raysPerPixel},
+                              {"budget_ms", b.budgetMs},
+                              {"frames", b.frames},
+                              {"elapsed_ms", b.elapsedMs}};
+        addScores(row, b.scores);
+        out["budgets"].push_back(row);
+      }
     }
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
-  std::printf("occlusion region: %llu pixels (%s)\n", (unsigned long long)maskCount(region),
+  std::printf("occlusion region: %llu pixels (%s)\n", (unsigned long long)regions.occlusionPixels,
               outPath("occlusion-mask.png").c_str());
+  std::printf("edge band: %llu pixels (%s)\n", (unsigned long long)regions.edgePixels,
+              outPath("edge-mask.png").c_str());
   for (const Row& r : rows) {
     std::printf("mode=%s", r.label.c_str());
     if (r.raysPerPixel) std::printf(" rays_per_pixel=%u frames=%u", r.raysPerPixel, r.frames);
-    std::printf(" psnr_db=%s ssim=%.4f psnr_occl_db=%s ssim_occl=%s ms_per_frame=%.1f\n",
-                formatDb(r.whole.psnrDb).c_str(), r.whole.ssim,
-                hasRegion ? formatDb(r.occluded.psnrDb).c_str() : "none",
-                hasRegion ? std::to_string(r.occluded.ssim).substr(0, 6).c_str() : "none",
-                r.msPerFrame);
+    std::printf("%s ms_per_frame=%.1f\n", formatScores(r.scores).c_str(), r.msPerFrame);
+  }
+  if (!budgets.empty()) {
+    std::printf(
+        "equal time: each mode renders the still view from a fresh start until the budget's "
+        "wall-clock time (frames and readback) has passed; its last frame is compared\n");
+    for (const BudgetRow& b : budgetRows) {
+      std::printf("budget_ms=%u mode=%s", b.budgetMs, modeName(b.mode));
+      if (b.raysPerPixel) std::printf(" rays_per_pixel=%u", b.raysPerPixel);
+      std::printf(" frames=%u elapsed_ms=%.0f%s\n", b.frames, b.elapsedMs,
+                  formatScores(b.scores).c_str());
+    }
   }
   return 0;
 }

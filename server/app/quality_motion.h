@@ -21,8 +21,10 @@ struct MotionQualityOptions {
   bool json = false;
 };
 
-// Prints one line per mode (or JSON): mean PSNR and SSIM over the compared frames, whole image
-// and partial-occlusion region, and the median GPU time per frame.
+// Prints one line per mode (or JSON): mean PSNR and SSIM over the compared frames, whole image,
+// partial-occlusion region and in-focus edge band (each region's mean over the frames where it is
+// not empty), and the median GPU time per frame. Writes each compared frame's reference, region
+// masks and images to options.outDir.
 void measureQualityInMotion(RenderSetup& setup, const CameraPath& path,
                             const MotionQualityOptions& options);
 

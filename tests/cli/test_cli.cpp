@@ -83,6 +83,49 @@ TEST(Cli, BadQualityInputIsAOneLineError) {
   expectUsageError("quality --camera-path " + kExamplePath + " --frames 2", "--frames");
 }
 
+TEST(Cli, BadBudgetIsAOneLineError) {
+  for (const char* bad : {"0", "-5", "abc", "250,", ",250", "250,,1000", "1.5", "60001",
+                          "99999999999999", "250;1000", "250, 1000"})
+    expectUsageError(std::string("quality --budget-ms '") + bad + "'",
+                     "is not a whole number of milliseconds from 1 to 60000");
+  expectUsageError("quality --budget-ms 250,abc", "--budget-ms: 'abc'");
+  expectUsageError("quality --budget-ms ''", "--budget-ms: ''");
+  expectUsageError("quality --budget-ms 250 --camera-path " + kExamplePath, "--camera-path");
+}
+
+// Equal time on a small image: one line per mode and budget, and both region masks written.
+TEST(Cli, QualityEqualTimeBudgets) {
+  auto out = tempDir() / "quality-budget";
+  Result r = runHdof(
+      "quality --scene builtin:dof --size 96x54 --f-number 1.4 --reference-spp 16 "
+      "--modes postprocess,hybrid --budget-ms 50,80 --out " +
+      out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+  for (const char* line : {"budget_ms=50 mode=postprocess frames=", "budget_ms=80 mode=postprocess",
+                           "budget_ms=50 mode=hybrid rays_per_pixel=4 frames=",
+                           "budget_ms=80 mode=hybrid", "edge band: "})
+    EXPECT_NE(r.stdoutText.find(line), std::string::npos) << line << "\n" << r.stdoutText;
+  size_t budgetLines = 0;
+  for (size_t at = 0; (at = r.stdoutText.find("\nbudget_ms=", at)) != std::string::npos; ++at)
+    ++budgetLines;
+  EXPECT_EQ(budgetLines, 4u) << r.stdoutText;
+  EXPECT_NE(r.stdoutText.find("psnr_edge_db="), std::string::npos) << r.stdoutText;
+  EXPECT_TRUE(std::filesystem::exists(out / "edge-mask.png"));
+  EXPECT_TRUE(std::filesystem::exists(out / "occlusion-mask.png"));
+  hdof::ImageRgba8 mask = hdof::readImage((out / "edge-mask.png").string());
+  EXPECT_EQ(mask.width, 96u);
+  EXPECT_EQ(mask.height, 54u);
+
+  Result json = runHdof(
+      "quality --scene builtin:dof --size 96x54 --f-number 1.4 --modes "
+      "postprocess --budget-ms 20 --json --reference " +
+      (out / "reference.png").string() + " --out " + out.string());
+  ASSERT_EQ(json.exitCode, 0) << json.stderrText;
+  for (const char* key : {"\"budgets\"", "\"budget_ms\": 20", "\"elapsed_ms\"", "\"psnr_edge_db\"",
+                          "\"ssim_edge\"", "\"edge_pixels\""})
+    EXPECT_NE(json.stdoutText.find(key), std::string::npos) << key << "\n" << json.stdoutText;
+}
+
 // A still measured twice, the second time against the first run's reference; then in motion.
 TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
   auto out = tempDir() / "quality";
@@ -91,6 +134,8 @@ TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
   Result first = runHdof(common + " --modes pinhole");
   ASSERT_EQ(first.exitCode, 0) << first.stderrText;
   EXPECT_NE(first.stdoutText.find("mode=pinhole psnr_db="), std::string::npos) << first.stdoutText;
+  EXPECT_NE(first.stdoutText.find("psnr_edge_db="), std::string::npos) << first.stdoutText;
+  EXPECT_TRUE(std::filesystem::exists(out / "edge-mask.png"));
   Result again =
       runHdof(common + " --modes postprocess --reference " + (out / "reference.png").string());
   ASSERT_EQ(again.exitCode, 0) << again.stderrText;
@@ -105,10 +150,12 @@ TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
   ASSERT_EQ(motion.exitCode, 0) << motion.stderrText;
   EXPECT_NE(motion.stdoutText.find("mode=postprocess"), std::string::npos) << motion.stdoutText;
   EXPECT_NE(motion.stdoutText.find("mode=hybrid"), std::string::npos) << motion.stdoutText;
+  EXPECT_NE(motion.stdoutText.find("psnr_edge_db="), std::string::npos) << motion.stdoutText;
   for (int frame : {0, 1, 2, 3})
     EXPECT_TRUE(
         std::filesystem::exists(out / ("motion-reference-" + std::to_string(frame) + ".png")))
         << frame;
+  EXPECT_TRUE(std::filesystem::exists(out / "motion-edge-mask-3.png"));
 }
 
 TEST(Cli, CorruptSceneFileIsAOneLineError) {
