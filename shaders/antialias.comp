@@ -12,9 +12,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
 
-layout(set = 1, binding = 1) uniform sampler2D rasterColor;  // rgba16f: this frame's sample
-layout(set = 1, binding = 2) uniform sampler2D history;  // rgba16f: the anti-aliased colour so far
-layout(set = 1, binding = 3) uniform sampler2D motion;  // rg16f, pixels to the previous position
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D rasterColor;  // this frame's sample
+layout(set = 1, binding = 2, rgba16f) uniform readonly image2D history;  // anti-aliased so far
+layout(set = 1, binding = 3, rg16f) uniform readonly image2D motion;  // pixels to where it was
 layout(set = 1, binding = 4) uniform writeonly image2D outColor;  // rgba16f
 
 layout(push_constant) uniform Push {
@@ -30,30 +30,30 @@ vec3 historyAt(vec2 position) {
   ivec2 base = ivec2(floor(p));
   vec2 f = p - vec2(base);
   ivec2 last = ivec2(frame.imageSize) - 1;
-  vec3 c00 = texelFetch(history, clamp(base, ivec2(0), last), 0).rgb;
-  vec3 c10 = texelFetch(history, clamp(base + ivec2(1, 0), ivec2(0), last), 0).rgb;
-  vec3 c01 = texelFetch(history, clamp(base + ivec2(0, 1), ivec2(0), last), 0).rgb;
-  vec3 c11 = texelFetch(history, clamp(base + ivec2(1, 1), ivec2(0), last), 0).rgb;
+  vec3 c00 = imageLoad(history, clamp(base, ivec2(0), last)).rgb;
+  vec3 c10 = imageLoad(history, clamp(base + ivec2(1, 0), ivec2(0), last)).rgb;
+  vec3 c01 = imageLoad(history, clamp(base + ivec2(0, 1), ivec2(0), last)).rgb;
+  vec3 c11 = imageLoad(history, clamp(base + ivec2(1, 1), ivec2(0), last)).rgb;
   return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
 }
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
-  vec3 current = texelFetch(rasterColor, pixel, 0).rgb;
+  vec3 current = imageLoad(rasterColor, pixel).rgb;
   vec3 result = current;
   if (frame.rasterSample > 0u) {
-    vec3 previous = texelFetch(history, pixel, 0).rgb;
+    vec3 previous = imageLoad(history, pixel).rgb;
     float samples = float(min(frame.rasterSample, kMaxRasterSamples) + 1u);
     result = previous + (current - previous) / samples;
   } else if (push.historyValid != 0u) {
-    vec2 from = vec2(pixel) + 0.5 + texelFetch(motion, pixel, 0).xy;
+    vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;
     if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize)))) {
       vec3 low = current, high = current;
       ivec2 last = ivec2(frame.imageSize) - 1;
       [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
         [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
-          vec3 c = texelFetch(rasterColor, clamp(pixel + ivec2(dx, dy), ivec2(0), last), 0).rgb;
+          vec3 c = imageLoad(rasterColor, clamp(pixel + ivec2(dx, dy), ivec2(0), last)).rgb;
           low = min(low, c);
           high = max(high, c);
         }

@@ -18,6 +18,40 @@ layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // pr
 layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
 
+// The full-resolution colour and CoC of the 6x6 pixels around a quad: what the small blurs of
+// its four pixels read.
+vec3 windowColor[36];
+float windowReach[36];  // half the |CoC|: how far each pixel's own blur reaches
+
+void loadWindow(ivec2 first) {
+  ivec2 last = ivec2(frame.imageSize) - 1;
+  [[unroll]] for (int j = 0; j < 36; ++j) {
+    ivec2 source = clamp(first + ivec2(j % 6 - 2, j / 6 - 2), ivec2(0), last);
+    windowColor[j] = imageLoad(color, source).rgb;
+    windowReach[j] = 0.5 * abs(imageLoad(cocImage, source).r);
+  }
+}
+
+// The blur of a pixel whose CoC is too small for the half-resolution layers (below about 5 px):
+// a disc of its own diameter over the full-resolution colour, in which a tap counts as far as
+// its own blur reaches the pixel, so that a sharper neighbour (an in-focus silhouette) does not
+// spread into it. Below a pixel's width the sharp colour is exact. offset: the pixel in its quad.
+vec3 smallBlur(ivec2 offset, float coc, vec3 sharp) {
+  float radius = min(0.5 * abs(coc), 2.5);
+  if (radius < 0.5) return sharp;
+  vec4 sum = vec4(sharp, 1.0);
+  [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
+    [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      float distance = length(vec2(dx, dy));
+      int j = (offset.y + dy + 2) * 6 + offset.x + dx + 2;
+      float weight = saturate(radius - distance + 0.5) * saturate(windowReach[j] - distance + 0.5);
+      sum += vec4(windowColor[j], 1.0) * weight;
+    }
+  }
+  return sum.rgb / sum.w;
+}
+
 void main() {
   ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
   ivec2 first = quad * 2;
@@ -35,6 +69,9 @@ void main() {
     anyBlur = anyBlur || blur[i] > 0.0;
   }
   bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;
+  bool anySmallBlur = false;
+  [[unroll]] for (int i = 0; i < 4; ++i) anySmallBlur = anySmallBlur || (abs(coc[i]) >= 1.0 && blur[i] < 1.0);
+  if (anySmallBlur) loadWindow(first);
 
   vec4 far[9];
   vec4 near[9];
@@ -71,7 +108,8 @@ void main() {
     // Where no half-resolution pixel nearby has this pixel's CoC (a thin gap between in-focus
     // objects, which the downsample's nearest CoC closes), the sharp colour stands in.
     float farAmount = blur[i] * saturate(farSum.w * 4.0);
-    vec3 background = farAmount > 0.0 ? mix(sharp[i], farSum.rgb / farSum.w, farAmount) : sharp[i];
+    vec3 near = anySmallBlur && farAmount < 1.0 ? smallBlur(offset, coc[i], sharp[i]) : sharp[i];
+    vec3 background = farAmount > 0.0 ? mix(near, farSum.rgb / farSum.w, farAmount) : near;
     imageStore(result, pixel, vec4(background * (1.0 - nearSum.a) + nearSum.rgb, 1.0));
   }
 }

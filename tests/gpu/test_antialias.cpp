@@ -36,8 +36,8 @@ TEST(AntiAliasing, AStillViewConvergesToTheSupersampledImage) {
   double first = compareImages(renderImage(spec), supersampled()).psnrDb;
   spec.frames = 16;
   double sixteen = compareImages(renderImage(spec), supersampled()).psnrDb;
-  std::printf("pinhole against its supersampled image: 1 frame %.2f dB, 16 frames %.2f dB\n",
-              first, sixteen);
+  std::printf("pinhole against its supersampled image: 1 frame %.2f dB, 16 frames %.2f dB\n", first,
+              sixteen);
   EXPECT_GT(sixteen, first + 4.0);
   EXPECT_GT(sixteen, 29.0);
 }
