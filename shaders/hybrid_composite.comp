@@ -59,14 +59,15 @@ void main() {
   vec3 traced = near.rgb + far.rgb;
   float depth = texelFetch(normalDepth, pixel, 0).w;
   float coc = pixelCoc(depth);
-  // A pixel whose history is short (the view moves) is noisy: the post-process shares it.
+  // A pixel whose history is short (the first frames of a view, or in motion) is noisy: the
+  // post-process shares it, in every zone.
   float trust = clamp(far.a / kTrustedRays, 0.0, 1.0);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
     // there are enough to give it the antialiased edges of the traced image.
     vec3 raster = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
-    color = mix(raster, traced, clamp(far.a / kConvergedRays, 0.0, 1.0));
+    color = mix(pp, mix(raster, traced, clamp(far.a / kConvergedRays, 0.0, 1.0)), trust);
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(pp, traced, trust * (1.0 - bokeh));
