@@ -272,7 +272,8 @@ int runQuality(std::span<const std::string> args) {
       if (rays != 1) runs.push_back({mode, 1, {1, 16}});
       runs.push_back({mode, rays, {1, 16}});
     } else {
-      runs.push_back({mode});
+      // The raster modes refine too while the view rests (anti-aliasing).
+      runs.push_back({mode, 0, {1, 16}});
     }
   }
   auto outPath = [&](const std::string& name) {
@@ -327,7 +328,7 @@ int runQuality(std::span<const std::string> args) {
         std::snprintf(file, sizeof(file), "%s-%urpp-%uf.png", row.label.c_str(), run.raysPerPixel,
                       frame);
       else
-        std::snprintf(file, sizeof(file), "%s.png", row.label.c_str());
+        std::snprintf(file, sizeof(file), "%s-%uf.png", row.label.c_str(), frame);
       row.file = file;
       ImageRgba8 image = pipeline.image();
       writeImage(outPath(row.file), image);
@@ -385,7 +386,8 @@ int runQuality(std::span<const std::string> args) {
               outPath("edge-mask.png").c_str());
   for (const Row& r : rows) {
     std::printf("mode=%s", r.label.c_str());
-    if (r.raysPerPixel) std::printf(" rays_per_pixel=%u frames=%u", r.raysPerPixel, r.frames);
+    if (r.raysPerPixel) std::printf(" rays_per_pixel=%u", r.raysPerPixel);
+    std::printf(" frames=%u", r.frames);
     std::printf("%s ms_per_frame=%.1f\n", formatScores(r.scores).c_str(), r.msPerFrame);
   }
   if (!budgets.empty()) {

@@ -133,13 +133,14 @@ TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
       "quality --size 64x36 --f-number 1.4 --reference-spp 16 --out " + out.string();
   Result first = runHdof(common + " --modes pinhole");
   ASSERT_EQ(first.exitCode, 0) << first.stderrText;
-  EXPECT_NE(first.stdoutText.find("mode=pinhole psnr_db="), std::string::npos) << first.stdoutText;
+  EXPECT_NE(first.stdoutText.find("mode=pinhole frames=1 psnr_db="), std::string::npos)
+      << first.stdoutText;
   EXPECT_NE(first.stdoutText.find("psnr_edge_db="), std::string::npos) << first.stdoutText;
   EXPECT_TRUE(std::filesystem::exists(out / "edge-mask.png"));
   Result again =
       runHdof(common + " --modes postprocess --reference " + (out / "reference.png").string());
   ASSERT_EQ(again.exitCode, 0) << again.stderrText;
-  EXPECT_NE(again.stdoutText.find("mode=postprocess psnr_db="), std::string::npos)
+  EXPECT_NE(again.stdoutText.find("mode=postprocess frames=16 psnr_db="), std::string::npos)
       << again.stdoutText;
   Result wrongSize = runHdof("quality --size 32x18 --modes pinhole --reference " +
                              (out / "reference.png").string());
