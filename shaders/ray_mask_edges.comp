@@ -33,6 +33,7 @@ void main() {
   vec3 normalDx = vec3(0.0), normalDy = vec3(0.0);
   float inverseDxx = 0.0, inverseDyy = 0.0;
   float nearestInverse = 0.0;  // the near side of any edge the kernel sees
+  float farthestInverse = 1e4;  // and its far side
   [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
     [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
       vec4 texel = imageLoad(normalDepth, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1));
@@ -42,6 +43,7 @@ void main() {
       inverseDxx += secondDifference(dx) * smoothing(dy) * inverseDepth;
       inverseDyy += smoothing(dx) * secondDifference(dy) * inverseDepth;
       nearestInverse = max(nearestInverse, inverseDepth);
+      farthestInverse = min(farthestInverse, inverseDepth);
     }
   }
   // A step of relative height j gives a second difference of j / 4 next to it.
@@ -58,6 +60,15 @@ void main() {
   // as kDofMaxCoc.
   bool needsRays = edge > 0.0 && nearCoc >= kDofFocusZone;
   float diameter = needsRays ? min(nearCoc + 2.0, kDofMaxCoc) : 0.0;
+  // An in-focus silhouette over a blurred background: the background beside it is partly hidden
+  // behind it for the lens, and the silhouette's own pixels mix it with that blur. Rays over
+  // the background's blur radius from the edge, at most kRayMaskSilhouetteReach.
+  float farCoc = signedCoc(1.0 / farthestInverse);
+  if (!needsRays && depthEdge > 0.0 && nearCoc < kDofFocusZone && farCoc >= kRayMaskFarEdgeCoc) {
+    needsRays = true;
+    edge = depthEdge;
+    diameter = min(farCoc, kRayMaskSilhouetteReach) + 2.0;
+  }
   imageStore(reach, pixel, vec4(diameter));
   imageStore(strength, pixel, vec4(needsRays ? edge : 0.0));
 }

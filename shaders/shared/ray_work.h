@@ -35,6 +35,8 @@ HDOF_CONST float kRayMaskNormalHigh = 0.5;
 // Far-field edges (their near side behind the focus plane) get rays from this CoC diameter
 // (pixels) on, and only for depth jumps: below it the post-process's background gather holds up.
 HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
+// The widest band (pixels) traced beside an in-focus silhouette over a blurred background.
+HDOF_CONST float kRayMaskSilhouetteReach = 8.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a
 // pixel gets rays without an edge, and at which it gets the full sample count.
 HDOF_CONST float kRayMaskVarianceOn = 0.001;
