@@ -1,10 +1,13 @@
 // hdof serve: the render daemon. One scene on one device, shared by every session; the network
-// thread (this one), a render thread and a JPEG pool, wired together here. SIGINT or SIGTERM
-// closes the sessions (1001) and frees the GPU resources.
+// thread (this one), a render thread, a bounded encode stage in front of a JPEG pool, and a
+// signal thread, wired together here. SIGINT or SIGTERM closes the sessions (1001) and frees the
+// GPU resources; during start-up (scene, BVH, device) it exits at once.
 #include "app/commands.h"
 #include "app/render_setup.h"
 #include "app/serve_config.h"
 #include "encode/jpeg_pool.h"
+#include "net/access_policy.h"
+#include "net/frame_encoder.h"
 #include "net/log.h"
 #include "net/message_codec.h"
 #include "net/ws_server.h"
@@ -12,10 +15,10 @@
 #include <pthread.h>
 #include <signal.h>
 
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -59,6 +62,7 @@ net::ServerOptions serverOptions(const ServeConfig& config) {
   options.webRoot = config.webRoot;
   options.token = config.token;
   options.allowedOrigins = config.allowedOrigins;
+  options.allowedHosts = config.allowedHosts;
   options.maxSessions = config.maxSessions;
   options.limits = config.limits;
   options.clientTimeoutS = config.clientTimeoutS;
@@ -66,25 +70,107 @@ net::ServerOptions serverOptions(const ServeConfig& config) {
   return options;
 }
 
+// HDOF_FAULT: a fault the tests inject to see the daemon report it (docs/operations.md).
+struct Faults {
+  net::RenderFault render = net::RenderFault::None;
+  bool slowStart = false;  // start-up takes a minute longer, as a large scene would
+};
+
+Faults injectedFaults() {
+  const char* fault = std::getenv("HDOF_FAULT");
+  std::string name = fault ? fault : "";
+  Faults faults;
+  if (name == "render-thread-exit")
+    faults.render = net::RenderFault::ThreadExit;
+  else if (name == "render-stall")
+    faults.render = net::RenderFault::Stall;
+  else if (name == "device-lost")
+    faults.render = net::RenderFault::DeviceLost;
+  else if (name == "slow-start")
+    faults.slowStart = true;
+  else if (!name.empty())
+    throw UsageError("HDOF_FAULT '" + name +
+                     "' is not one of render-thread-exit, render-stall, device-lost, slow-start");
+  return faults;
+}
+
+// The signal thread: SIGINT and SIGTERM are blocked in every other thread and taken here. During
+// start-up (nothing to close yet) the first one exits at once; while serving it stops the server
+// (the sessions close with 1001); a second one, or one after serving, exits at once (130).
+class StopSignals {
+ public:
+  explicit StopSignals(const sigset_t& signals) : signals_(signals) {
+    thread_ = std::thread([this] { wait(); });
+  }
+  ~StopSignals() {
+    {
+      std::lock_guard lock(mutex_);
+      state_ = State::Done;
+    }
+    pthread_kill(thread_.native_handle(), SIGTERM);
+    thread_.join();
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+  void serving(net::WsServer* server) {
+    std::lock_guard lock(mutex_);
+    server_ = server;
+    state_ = server ? State::Serving : State::Stopping;
+  }
+
+ private:
+  enum class State { Starting, Serving, Stopping, Done };
+  void wait() {
+    for (;;) {
+      int signal = 0;
+      sigwait(&signals_, &signal);
+      std::lock_guard lock(mutex_);
+      std::string name = signal == SIGINT ? "SIGINT" : "SIGTERM";
+      switch (state_) {
+        case State::Done:
+          return;
+        case State::Starting:
+          net::logEvent("stopping", "signal=" + name + " during=start-up");
+          std::_Exit(0);
+        case State::Serving:
+          net::logEvent("stopping", "signal=" + name);
+          state_ = State::Stopping;
+          server_->stop();
+          break;
+        case State::Stopping:
+          std::_Exit(130);  // a second Ctrl-C: do not wait for the clients
+      }
+    }
+  }
+
+  sigset_t signals_;
+  std::mutex mutex_;
+  State state_ = State::Starting;
+  net::WsServer* server_ = nullptr;
+  std::thread thread_;
+};
+
 }  // namespace
 
 int runServe(std::span<const std::string> args) {
   // Every thread started from here on (the driver's too) leaves SIGINT and SIGTERM to the
   // signal thread below.
-  sigset_t stopSignals;
-  sigemptyset(&stopSignals);
-  sigaddset(&stopSignals, SIGINT);
-  sigaddset(&stopSignals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   ServeConfig flags;
-  std::string configFile, origins, device;
-  bool verbose = false;
+  std::string configFile, origins, hosts, device;
+  bool verbose = false, allowInsecureToken = false;
   ArgParser parser(
       "serve", "[options]",
       "Runs the render daemon: the browser client at http://ADDR:PORT/, render sessions over\n"
       "WebSocket at /session (protocol/README.md), GET /healthz and GET /metrics. Every session\n"
       "renders the one scene. The access token may also come from the environment (HDOF_TOKEN).\n"
+      "Only the daemon's own pages may open sessions unless --allow-origin lists others.\n"
       "Flags override the config file; SIGINT or SIGTERM stops the daemon.");
   parser.option("--port", "P", "TCP port (default 8080; 0 picks a free one)", &flags.port);
   parser.option("--bind", "ADDR", "address to listen on (default 127.0.0.1; 0.0.0.0 for all)",
@@ -92,7 +178,11 @@ int runServe(std::span<const std::string> args) {
   parser.option("--scene", "PATH|builtin:NAME", "the scene (default builtin:dof)", &flags.scene);
   parser.option("--config", "FILE.json", "limits and defaults (keys in README.md)", &configFile);
   parser.option("--token", "TOKEN", "sessions must send this token in hello", &flags.token);
-  parser.option("--allow-origin", "O1,O2", "only WebSocket clients from these origins", &origins);
+  parser.flag("--allow-insecure-token",
+              "allow a token on a non-loopback address (TLS is terminated in front)",
+              &allowInsecureToken);
+  parser.option("--allow-origin", "O1,O2", "also WebSocket clients from these origins", &origins);
+  parser.option("--allow-host", "H1,H2", "Host names to accept besides loopback ones", &hosts);
   parser.option("--web-root", "DIR", "the directory served at / (default: client_web/)",
                 &flags.webRoot);
   parser.option("--device", "INDEX|NAME", "Vulkan device by index or name substring", &device);
@@ -108,13 +198,29 @@ int runServe(std::span<const std::string> args) {
   if (parser.given("--scene")) config.scene = flags.scene;
   if (parser.given("--web-root")) config.webRoot = flags.webRoot;
   if (parser.given("--allow-origin")) config.allowedOrigins = splitList(origins);
+  if (parser.given("--allow-host")) config.allowedHosts = splitList(hosts);
+  if (allowInsecureToken) config.allowInsecureToken = true;
   if (parser.given("--token"))
     config.token = flags.token;
   else if (const char* token = std::getenv("HDOF_TOKEN"); token && *token)
     config.token = token;
+  checkServeAccess(config);
   if (!std::filesystem::is_directory(config.webRoot))
     throw UsageError("the web root '" + config.webRoot + "' is not a directory (see --web-root)");
   config.webRoot = std::filesystem::absolute(config.webRoot).string();
+  Faults faults = injectedFaults();
+
+  // From here on a signal is taken at once: loading the scene, building the BVH and setting up
+  // the device can take a while.
+  StopSignals stopSignals(signals);
+  if (!config.token.empty() && !net::isLoopbackBind(config.bind))
+    net::logEvent("insecure_token", "bind=" + net::logValue(config.bind) + " note=" +
+                                        net::logValue("the token crosses the network as sent: only "
+                                                      "behind a proxy that terminates TLS"));
+  if (faults.slowStart) {
+    net::logEvent("fault", "name=slow-start");
+    std::this_thread::sleep_for(std::chrono::seconds(60));
+  }
 
   SceneOptions sceneOptions{config.scene, "", device, verbose};
   LoadedScene loaded = loadSceneWithBvh(sceneOptions);
@@ -122,7 +228,8 @@ int runServe(std::span<const std::string> args) {
   GpuScene gpuScene(context, loaded.scene, loaded.bvh);
 
   net::Metrics metrics;
-  net::RenderLoop renderLoop(context, loaded.scene, gpuScene, loaded.bvh, metrics);
+  net::RenderLoop renderLoop(context, loaded.scene, gpuScene, loaded.bvh, metrics,
+                             double(config.renderStallS), faults.render);
   JpegPool encoders(config.encodeThreads);
   std::optional<net::WsServer> server;
   try {
@@ -131,23 +238,29 @@ int runServe(std::span<const std::string> args) {
   } catch (const net::ListenError& e) {
     throw UsageError(e.what());
   }
-  renderLoop.start(
-      [&](net::StreamFrame frame) {
-        ImageRgba8 image = std::move(frame.image);
-        int quality = frame.plan.jpegQuality;
-        encoders.submit(
-            std::move(image), quality, [&, frame = std::move(frame)](EncodedJpeg jpeg) mutable {
-              if (jpeg.bytes.empty()) {
-                net::logEvent("encode_failed", "session=" + std::to_string(frame.session) +
-                                                   " error=" + net::logValue(jpeg.error));
-                metrics.frameDropped();
-                renderLoop.frameDropped(frame.session, frame.plan.frame);
-                return;
-              }
-              frame.jpeg = std::move(jpeg);
-              server->queueFrame(std::move(frame));
-            });
+  // Frames beyond the workers wait here, at most one per session (and two per worker); past
+  // that the oldest waiting frame is dropped.
+  net::FrameEncoder encoder(
+      [&](ImageRgba8 image, int quality, std::function<void(EncodedJpeg)> done) {
+        encoders.submit(std::move(image), quality, std::move(done));
       },
+      config.encodeThreads, std::max<size_t>(config.maxSessions, 2 * config.encodeThreads),
+      [&](net::StreamFrame frame) {
+        if (frame.jpeg.bytes.empty()) {
+          net::logEvent("encode_failed", "session=" + std::to_string(frame.session) +
+                                             " error=" + net::logValue(frame.jpeg.error));
+          metrics.frameDropped();
+          renderLoop.frameDropped(frame.session, frame.plan.frame);
+          return;
+        }
+        server->queueFrame(std::move(frame));
+      },
+      [&](net::StreamFrame frame) {
+        metrics.frameDropped();
+        renderLoop.frameDropped(frame.session, frame.plan.frame);
+      });
+  renderLoop.start(
+      [&](net::StreamFrame frame) { encoder.submit(std::move(frame)); },
       [&](uint64_t session, const std::string& why) { server->sessionFailed(session, why); });
 
   std::string host = config.bind.empty() || config.bind == "0.0.0.0" ? "localhost" : config.bind;
@@ -159,25 +272,13 @@ int runServe(std::span<const std::string> args) {
               config.scene.c_str(), context.deviceName().c_str());
   std::fflush(stdout);
 
-  std::atomic<bool> done{false};
-  std::thread signalWaiter([&] {
-    for (bool stopping = false;;) {
-      int signal = 0;
-      sigwait(&stopSignals, &signal);
-      if (done) return;
-      if (stopping) std::_Exit(130);  // a second Ctrl-C: do not wait for the clients
-      stopping = true;
-      net::logEvent("stopping", std::string("signal=") + (signal == SIGINT ? "SIGINT" : "SIGTERM"));
-      server->stop();
-    }
-  });
+  stopSignals.serving(&*server);
   server->run();
-  done = true;
+  stopSignals.serving(nullptr);
   renderLoop.stop();    // no more frames, the pipelines freed
+  encoder.shutdown();   // frames waiting for a worker are dropped
   encoders.shutdown();  // frames still encoding are handed to the server and dropped there
   server.reset();
-  pthread_kill(signalWaiter.native_handle(), SIGTERM);
-  signalWaiter.join();
   net::logEvent("stopped");
   return 0;
 }

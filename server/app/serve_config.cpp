@@ -1,6 +1,7 @@
 #include "app/serve_config.h"
 
 #include "app/cli.h"
+#include "net/access_policy.h"
 #include "net/message_codec.h"
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,17 @@ ServeConfig parseServeConfig(const std::string& text, const std::string& source,
          c.allowedOrigins.clear();
          for (const json& origin : v) c.allowedOrigins.push_back(r.text(origin, k));
        }},
+      {"allowed_hosts",
+       [&](const json& v, const std::string& k) {
+         if (!v.is_array()) throw UsageError(r.where(k) + " must be a list of host names");
+         c.allowedHosts.clear();
+         for (const json& host : v) c.allowedHosts.push_back(r.text(host, k));
+       }},
+      {"allow_insecure_token",
+       [&](const json& v, const std::string& k) {
+         if (!v.is_boolean()) throw UsageError(r.where(k) + " must be true or false");
+         c.allowInsecureToken = v.get<bool>();
+       }},
       {"max_sessions", count(&c.maxSessions, 1, 1024)},
       {"max_width", count(&limits.maxWidth, 16, 8192)},
       {"max_height", count(&limits.maxHeight, 16, 8192)},
@@ -70,6 +82,7 @@ ServeConfig parseServeConfig(const std::string& text, const std::string& source,
       {"client_timeout_s", count(&c.clientTimeoutS, 2, 3600)},
       {"hello_timeout_s", count(&c.helloTimeoutS, 1, 3600)},
       {"encode_threads", count(&c.encodeThreads, 1, 64)},
+      {"render_stall_s", count(&c.renderStallS, 1, 3600)},
       {"mode", [&](const json& v, const std::string& k) { c.mode = r.text(v, k); }},
       {"jpeg_quality_moving",
        [&](const json& v, const std::string& k) {
@@ -103,6 +116,18 @@ void checkServeConfig(const ServeConfig& c, const std::string& source) {
     throw UsageError(source + ": rays_per_pixel " + std::to_string(c.stream.raysPerPixel) +
                      " is more than max_rays_per_pixel " +
                      std::to_string(c.limits.maxRaysPerPixel));
+}
+
+void checkServeAccess(const ServeConfig& c) {
+  if (c.token.size() > net::kMaxTokenBytes)
+    throw UsageError("the token is " + std::to_string(c.token.size()) +
+                     " bytes: hello carries at most " + std::to_string(net::kMaxTokenBytes) +
+                     ", so no client could ever send it");
+  if (!c.token.empty() && !net::isLoopbackBind(c.bind) && !c.allowInsecureToken)
+    throw UsageError("a token on " + (c.bind.empty() ? std::string("every interface") : c.bind) +
+                     " would cross the network in clear text: put a TLS proxy in front "
+                     "(docs/operations.md) and pass --allow-insecure-token "
+                     "(\"allow_insecure_token\": true)");
 }
 
 ServeConfig loadServeConfig(const std::string& path) {

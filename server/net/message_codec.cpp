@@ -131,7 +131,7 @@ HelloMessage parseHello(const Fields& f, const Limits& limits) {
   if (protocol != kProtocolVersion)
     reject(ErrorCode::OutOfRange, "protocol",
            "protocol " + protocol.dump() + " is not supported: this daemon speaks 1");
-  hello.token = f.optionalString("token", 256);
+  hello.token = f.optionalString("token", kMaxTokenBytes);
   hello.scene = f.optionalString("scene", 1024);
   const json& viewport = f.require("viewport");
   if (!viewport.is_object())

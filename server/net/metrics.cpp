@@ -1,5 +1,6 @@
 #include "net/metrics.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace hdof::net {
@@ -58,12 +59,18 @@ void Metrics::frameSent(uint64_t bytes, double encodeMs, std::optional<double> i
 
 void Metrics::frameRendered(const std::vector<std::pair<std::string, double>>& passMs) {
   std::lock_guard lock(mutex_);
+  ++rendered_;
   for (const auto& [pass, ms] : passMs) passSeconds_[pass].observe(ms * 1e-3);
 }
 
 void Metrics::frameDropped() {
   std::lock_guard lock(mutex_);
   ++dropped_;
+}
+
+void Metrics::sessionTimedOut() {
+  std::lock_guard lock(mutex_);
+  ++timedOut_;
 }
 
 void Metrics::inputsCoalesced(uint64_t count) {
@@ -86,6 +93,11 @@ int Metrics::activeSessions() const {
   return sessions_;
 }
 
+uint64_t Metrics::framesQueued() const {
+  std::lock_guard lock(mutex_);
+  return rendered_ - std::min(rendered_, frames_ + dropped_);
+}
+
 std::string Metrics::prometheusText() const {
   std::lock_guard lock(mutex_);
   std::string out;
@@ -93,12 +105,22 @@ std::string Metrics::prometheusText() const {
   sample(out, "hdof_sessions", "", sessions_);
   header(out, "hdof_sessions_total", "counter", "Sessions started.");
   sample(out, "hdof_sessions_total", "", double(sessionsTotal_));
+  header(out, "hdof_sessions_timed_out_total", "counter",
+         "Sessions cut off for answering no ping for client_timeout_s (not reading).");
+  sample(out, "hdof_sessions_timed_out_total", "", double(timedOut_));
+  header(out, "hdof_frames_rendered_total", "counter", "Frames rendered.");
+  sample(out, "hdof_frames_rendered_total", "", double(rendered_));
+  header(out, "hdof_frames_queued", "gauge",
+         "Frames rendered and not yet sent or dropped (encoding, or waiting to be written).");
+  sample(out, "hdof_frames_queued", "",
+         double(rendered_ - std::min(rendered_, frames_ + dropped_)));
   header(out, "hdof_frames_sent_total", "counter", "Frames sent to clients.");
   sample(out, "hdof_frames_sent_total", "", double(frames_));
   header(out, "hdof_bytes_sent_total", "counter", "JPEG bytes sent to clients.");
   sample(out, "hdof_bytes_sent_total", "", double(bytes_));
   header(out, "hdof_frames_dropped_total", "counter",
-         "Frames rendered but never sent (the session ended or the encode failed).");
+         "Frames rendered but never sent (the session ended, the encode failed, or a bounded "
+         "queue dropped its oldest).");
   sample(out, "hdof_frames_dropped_total", "", double(dropped_));
   header(out, "hdof_inputs_coalesced_total", "counter",
          "Camera and lens updates replaced by a newer one before they were rendered.");

@@ -34,17 +34,22 @@ class Metrics {
   void frameSent(uint64_t bytes, double encodeMs, std::optional<double> inputToSendMs);
   void frameRendered(const std::vector<std::pair<std::string, double>>& passMs);
   void frameDropped();
+  void sessionTimedOut();
   void inputsCoalesced(uint64_t count);
   void error(ErrorCode code);
   void closed(uint16_t closeCode);
 
   int activeSessions() const;
+  // Frames rendered and neither sent nor dropped yet: waiting for or in the encoder, or in an
+  // outgoing list.
+  uint64_t framesQueued() const;
   std::string prometheusText() const;
 
  private:
   mutable std::mutex mutex_;
   int sessions_ = 0;
   uint64_t sessionsTotal_ = 0, frames_ = 0, bytes_ = 0, dropped_ = 0, coalesced_ = 0;
+  uint64_t rendered_ = 0, timedOut_ = 0;
   std::map<std::string, uint64_t> errors_;  // by error code
   std::map<uint16_t, uint64_t> closes_;     // by close code the daemon sent
   std::map<std::string, Histogram> passSeconds_;

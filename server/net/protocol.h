@@ -17,6 +17,7 @@ namespace hdof::net {
 constexpr int kProtocolVersion = 1;
 constexpr const char* kSubprotocol = "hdof.v1";
 constexpr const char* kSessionPath = "/session";
+constexpr size_t kMaxTokenBytes = 256;  // hello.token; a longer configured token could never match
 
 // WebSocket close codes the daemon uses (RFC 6455, 7.4.1).
 enum CloseCode : uint16_t {

@@ -1,21 +1,51 @@
 #include "net/render_loop.h"
 
+#include "gpu/check.h"
 #include "render/focus_pick.h"
 
 #include <malloc.h>
 
 namespace hdof::net {
+namespace {
+
+// The idle render thread still comes round its loop this often, so that its heartbeat shows it
+// is alive.
+constexpr auto kIdleBeat = std::chrono::seconds(1);
+
+}  // namespace
 
 RenderLoop::RenderLoop(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene,
-                       const Bvh& bvh, Metrics& metrics)
-    : context_(context), scene_(scene), gpuScene_(gpuScene), bvh_(bvh), metrics_(metrics) {}
+                       const Bvh& bvh, Metrics& metrics, double stallS, RenderFault fault)
+    : context_(context),
+      scene_(scene),
+      gpuScene_(gpuScene),
+      bvh_(bvh),
+      metrics_(metrics),
+      stallS_(stallS),
+      fault_(fault) {}
 
 RenderLoop::~RenderLoop() { stop(); }
 
 void RenderLoop::start(FrameSink onFrame, FailureSink onFailure) {
   onFrame_ = std::move(onFrame);
   onFailure_ = std::move(onFailure);
+  beat();
+  threadRunning_ = true;
   thread_ = std::thread([this] { run(); });
+}
+
+void RenderLoop::beat() { heartbeat_ = Clock::now().time_since_epoch().count(); }
+
+RenderHealth RenderLoop::health() const {
+  RenderHealth health;
+  health.threadRunning = threadRunning_;
+  Clock::time_point beatAt{Clock::duration(heartbeat_.load())};
+  health.heartbeatAgeS = std::chrono::duration<double>(Clock::now() - beatAt).count();
+  health.stalled = health.threadRunning && health.heartbeatAgeS > stallS_;
+  health.deviceLost = deviceLost_;
+  std::lock_guard lock(mutex_);
+  health.failure = failure_;
+  return health;
 }
 
 void RenderLoop::stop() {
@@ -54,6 +84,23 @@ void RenderLoop::frameDropped(uint64_t session, uint32_t frame) {
     std::lock_guard lock(mutex_);
     if (auto it = sessions_.find(session); it != sessions_.end())
       it->second.state.frameDropped(frame);
+  }
+  wake_.notify_all();
+}
+
+void RenderLoop::frameSent(uint64_t session, uint32_t frame) {
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = sessions_.find(session); it != sessions_.end()) it->second.state.frameSent(frame);
+  }
+  wake_.notify_all();
+}
+
+void RenderLoop::setSendBlocked(uint64_t session, bool blocked) {
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = sessions_.find(session); it != sessions_.end())
+      it->second.state.setSendBlocked(blocked);
   }
   wake_.notify_all();
 }
@@ -99,23 +146,49 @@ std::map<uint64_t, RenderLoop::Session>::iterator RenderLoop::pickDue(
 }
 
 void RenderLoop::run() {
+  std::string failure;
+  try {
+    loop();
+    return;
+  } catch (const std::exception& e) {
+    failure = e.what();
+  } catch (...) {
+    failure = "unknown exception";
+  }
+  // The thread is gone: /healthz fails from now on, and every session learns it cannot be served.
+  std::vector<uint64_t> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    failure_ = "the render thread stopped: " + failure;
+    threadRunning_ = false;
+    for (auto& [id, session] : sessions_)
+      if (!session.removed) {
+        session.removed = true;
+        sessions.push_back(id);
+      }
+  }
+  for (uint64_t id : sessions) onFailure_(id, "the render thread stopped: " + failure);
+}
+
+void RenderLoop::loop() {
   FocusPicker pickFocus = [this](const Camera& camera, Viewport viewport, float x, float y) {
     return depthUnderPixel(bvh_, camera, viewport.width, viewport.height, x, y);
   };
   std::unique_lock lock(mutex_);
   while (!stopping_) {
+    beat();
     freeRemovedSessions(lock);
     if (stopping_) break;
     Clock::time_point now = Clock::now();
     std::optional<Clock::time_point> nextDue;
     auto due = pickDue(now, nextDue);
     if (due == sessions_.end()) {
-      if (nextDue)
-        wake_.wait_until(lock, *nextDue);
-      else
-        wake_.wait(lock);
+      Clock::time_point tick = now + kIdleBeat;
+      wake_.wait_until(lock, nextDue ? std::min(*nextDue, tick) : tick);
       continue;
     }
+    if (fault_ == RenderFault::ThreadExit)
+      throw std::runtime_error("injected fault (HDOF_FAULT=render-thread-exit)");
     uint64_t id = due->first;
     Session& session = due->second;
     lastServed_ = id;
@@ -131,6 +204,11 @@ void RenderLoop::run() {
 
 void RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
   try {
+    if (fault_ == RenderFault::Stall) {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stopping_; });
+      throw std::runtime_error("injected fault (HDOF_FAULT=render-stall)");
+    }
     const FrameSettings& size = plan.request.settings;
     if (!session.pipeline)
       session.pipeline =
@@ -141,17 +219,33 @@ void RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
     frame.session = id;
     frame.plan = plan;
     frame.stats = session.pipeline->render(plan.request);
+    if (fault_ == RenderFault::DeviceLost)  // as a submit or fence wait would report it
+      throw VulkanError(VK_ERROR_DEVICE_LOST, "injected fault (HDOF_FAULT=device-lost)");
     frame.image = session.pipeline->image();
     frame.renderedAt = Clock::now();
     metrics_.frameRendered(frame.stats.passMs);
     onFrame_(std::move(frame));
   } catch (const std::exception& e) {
+    bool lost = false;
+    if (const auto* vulkan = dynamic_cast<const VulkanError*>(&e))
+      lost = vulkan->result == VK_ERROR_DEVICE_LOST;
     session.pipeline.reset();
+    std::vector<uint64_t> failed = {id};
     {
       std::lock_guard lock(mutex_);
       session.removed = true;
+      if (lost) {
+        // Nothing renders on a lost device: every session ends, and /healthz fails.
+        deviceLost_ = true;
+        failure_ = std::string("the device was lost: ") + e.what();
+        for (auto& [other, entry] : sessions_)
+          if (other != id && !entry.removed) {
+            entry.removed = true;
+            failed.push_back(other);
+          }
+      }
     }
-    onFailure_(id, e.what());
+    for (uint64_t failedId : failed) onFailure_(failedId, e.what());
   }
 }
 

@@ -92,7 +92,7 @@ std::string welcomeMessage(const Welcome& welcome) {
         {"focus_distance", lens.focusDistance},
         {"blades", lens.blades},
         {"blade_rotation_deg", lens.bladeRotationDeg}}}};
-  return message.dump();
+  return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 std::string errorMessage(const ProtocolError& error) {
@@ -101,6 +101,36 @@ std::string errorMessage(const ProtocolError& error) {
   if (!error.field.empty()) message["field"] = error.field;
   // Replace, not throw, if a message quotes bytes of the client's that are not UTF-8.
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string utf8Prefix(std::string_view text, size_t maxBytes) {
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    auto byte = [&](size_t at) { return static_cast<unsigned char>(text[at]); };
+    unsigned char lead = byte(i);
+    size_t length = lead < 0x80           ? 1
+                    : (lead >> 5) == 0x6  ? 2
+                    : (lead >> 4) == 0xE  ? 3
+                    : (lead >> 3) == 0x1E ? 4
+                                          : 0;
+    bool valid = length > 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) valid = (byte(i + k) & 0xC0) == 0x80;
+    if (valid && length > 1) {
+      // No overlong forms, no surrogates, nothing above U+10FFFF.
+      uint32_t code = lead & (0x7F >> length);
+      for (size_t k = 1; k < length; ++k) code = code << 6 | (byte(i + k) & 0x3F);
+      static constexpr uint32_t kSmallest[] = {0, 0, 0x80, 0x800, 0x10000};
+      valid = code >= kSmallest[length] && code <= 0x10FFFF && (code < 0xD800 || code > 0xDFFF);
+    }
+    size_t take = valid ? length : 1;
+    if (out.size() + take > maxBytes) break;
+    if (valid)
+      out.append(text.substr(i, length));
+    else
+      out += '?';
+    i += take;
+  }
+  return out;
 }
 
 std::string frameStatsJson(const FrameStatsMessage& stats) {
@@ -119,7 +149,7 @@ std::string frameStatsJson(const FrameStatsMessage& stats) {
                   {"accumulated_frames", stats.accumulatedFrames},
                   {"focus_distance", stats.focusDistance}};
   if (stats.inputToSendMs) message["input_to_send_ms"] = *stats.inputToSendMs;
-  return message.dump();
+  return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 std::vector<uint8_t> frameMessage(const FrameHeader& header, const std::string& stats,

@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace hdof::net {
@@ -23,8 +24,14 @@ struct Welcome {
   Lens lens;
 };
 
+// Text the daemon did not write itself (a scene path, a glTF camera name, a client's field) may
+// not be UTF-8: it is sent with U+FFFD in place of the bad bytes, never an exception.
 std::string welcomeMessage(const Welcome& welcome);
 std::string errorMessage(const ProtocolError& error);
+
+// Valid UTF-8 (bad bytes become '?') of at most maxBytes, cut between characters: a close
+// frame's reason (RFC 6455: 123 bytes), which browsers require to be UTF-8.
+std::string utf8Prefix(std::string_view text, size_t maxBytes);
 
 // The camera and lens in the client's message form (what `welcome` starts the client with).
 CameraMessage cameraMessageOf(const Camera& camera, float targetDistance = 1.0f);

@@ -102,10 +102,14 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
         stream_.resolutionScale != before.resolutionScale)
       changed_ = true;
   } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
-    if (ack->frame > lastFrame_)
+    // Only what was written to the connection: an ack of a frame the client cannot have seen
+    // would open the window for frames that pile up in the daemon.
+    if (ack->frame > lastSent_)
       return ProtocolError{ErrorCode::OutOfRange,
                            "frame " + std::to_string(ack->frame) + " has not been sent", "frame"};
-    while (!inFlight_.empty() && inFlight_.front() <= ack->frame) inFlight_.pop_front();
+    // Acknowledges every earlier frame that was sent too; one still on its way (frames can
+    // finish encoding out of order) stays in flight until it is sent and acked.
+    std::erase_if(inFlight_, [&](const InFlight& f) { return f.sent && f.frame <= ack->frame; });
   } else {
     return ProtocolError{ErrorCode::NotAllowed, "this session has already said hello", "type"};
   }
@@ -113,7 +117,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
 }
 
 std::optional<Clock::time_point> SessionState::nextFrameDue() const {
-  if (inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
+  if (sendBlocked_ || inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
   Clock::time_point earliest = lastFrameStart_ + msDuration(1000.0 / stream_.maxFps);
   bool converged = accumulated_ >= (accumulating() ? defaults_.accumulationFrames : 1u);
   if (changed_ || pull_ || !converged) return earliest;
@@ -160,7 +164,7 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   plan.jpegQuality = moving ? stream_.jpegQualityMoving : stream_.jpegQualityStill;
   plan.accumulatedFrames = ++accumulated_;
 
-  inFlight_.push_back(plan.frame);
+  inFlight_.push_back({plan.frame, false});
   lastFrameStart_ = now;
   lastFrameMoving_ = moving;
   changed_ = resetHistory_ = cameraPending_ = lensPending_ = false;
@@ -168,8 +172,14 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   return plan;
 }
 
+void SessionState::frameSent(uint32_t frame) {
+  lastSent_ = std::max(lastSent_, frame);
+  for (InFlight& f : inFlight_)
+    if (f.frame == frame) f.sent = true;
+}
+
 void SessionState::frameDropped(uint32_t frame) {
-  inFlight_.erase(std::remove(inFlight_.begin(), inFlight_.end(), frame), inFlight_.end());
+  std::erase_if(inFlight_, [&](const InFlight& f) { return f.frame == frame; });
 }
 
 }  // namespace hdof::net

@@ -2,7 +2,9 @@
 // messages (the newest camera and lens win), decides when the next frame is due and describes
 // what that frame renders. Frames are due on a change, while ray-traced modes accumulate, and
 // once more at still JPEG quality when the view comes to rest; never while max_unacked_frames
-// frames wait for an ack, never faster than max_fps. Otherwise the session idles.
+// frames wait for an ack, never while the connection cannot take more (sendBlocked), never faster
+// than max_fps. Otherwise the session idles. Only frames sent can be acked: a frame counts as
+// sent when the server has written it to the connection (frameSent).
 #pragma once
 
 #include "net/protocol.h"
@@ -52,7 +54,7 @@ class SessionState {
   SessionState(const SessionDefaults& defaults, Viewport viewport);
 
   // Applies a validated message received at `received`. An error when it does not fit this
-  // session (a pixel outside the viewport, an ack of a frame never sent); the state is unchanged.
+  // session (a pixel outside the viewport, an ack of a frame not yet sent); the state is unchanged.
   std::optional<ProtocolError> apply(const ClientMessage& message, Clock::time_point received);
 
   // When the next frame may start, or nothing while the session idles (a message or an ack
@@ -60,8 +62,13 @@ class SessionState {
   std::optional<Clock::time_point> nextFrameDue() const;
   // Takes what the next frame renders; the frame counts as in flight until acked or dropped.
   FramePlan startFrame(Clock::time_point now, const FocusPicker& pickFocus);
-  // A started frame that will never be sent (its encode failed).
+  // A started frame that will never be sent (its encode failed, it was dropped from a full queue).
   void frameDropped(uint32_t frame);
+  // The server wrote this frame to the connection: acks up to it are valid now.
+  void frameSent(uint32_t frame);
+  // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
+  void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
+  bool sendBlocked() const { return sendBlocked_; }
 
   size_t framesInFlight() const { return inFlight_.size(); }
   uint64_t inputsCoalesced() const { return inputsCoalesced_; }
@@ -96,9 +103,15 @@ class SessionState {
   Clock::time_point lastFrameStart_{};
   bool lastFrameMoving_ = false;
   uint32_t accumulated_ = 0;
-  uint32_t lastFrame_ = 0;
+  uint32_t lastFrame_ = 0;  // the last frame started
+  uint32_t lastSent_ = 0;   // the newest frame written to the connection
+  bool sendBlocked_ = false;
   uint32_t frameIndex_ = 0;
-  std::deque<uint32_t> inFlight_;  // started, not acked
+  struct InFlight {
+    uint32_t frame = 0;
+    bool sent = false;
+  };
+  std::deque<InFlight> inFlight_;  // started, neither acked nor dropped
   uint64_t inputsCoalesced_ = 0;
 };
 

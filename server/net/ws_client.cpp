@@ -32,7 +32,11 @@ WsClient::WsClient(const WsClientOptions& options) {
   connect.address = options.host.c_str();
   connect.port = options.port;
   connect.path = options.path.c_str();
-  connect.host = options.host.c_str();
+  // The Host header names the port too (RFC 9110), as a browser's does.
+  bool ipv6 = options.host.find(':') != std::string::npos;
+  hostHeader_ =
+      (ipv6 ? "[" + options.host + "]" : options.host) + ":" + std::to_string(options.port);
+  connect.host = hostHeader_.c_str();
   connect.origin = options.origin.empty() ? nullptr : options.origin.c_str();
   connect.protocol = protocolName_.c_str();
   connect.pwsi = &wsi_;

@@ -25,7 +25,10 @@ struct WsClientOptions {
   int port = 0;
   std::string path = "/session";
   std::string protocol = "hdof.v1";
-  std::string origin;  // the Origin header's host part (libwebsockets adds "http://"), when set
+  // The Origin header's host[:port] (libwebsockets adds "http://"), when set. Without one the
+  // daemon takes the client for a program, not a browser page, and lets it in unless
+  // allowed_origins is set (net/access_policy.h).
+  std::string origin;
 };
 
 struct WsMessage {
@@ -61,6 +64,7 @@ class WsClient {
   void push(WsMessage message);
 
   std::string protocolName_;
+  std::string hostHeader_;
   std::unique_ptr<lws_protocols[]> protocols_;  // the context points into both
   lws_context* context_ = nullptr;
   lws* wsi_ = nullptr;  // the service thread's

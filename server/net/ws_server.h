@@ -1,10 +1,19 @@
 // The daemon's network side: one libwebsockets context on one port that serves client_web/ over
-// HTTP, GET /healthz and /metrics, and render sessions over WebSocket at /session (subprotocol
-// hdof.v1). Only run()'s thread touches libwebsockets; it does I/O and message validation, never
-// rendering or encoding. Other threads hand it frames and failures through a locked inbox and wake
-// it with lws_cancel_service.
+// HTTP (GET and HEAD; files only inside the web root), GET /healthz and /metrics, and render
+// sessions over WebSocket at /session (subprotocol hdof.v1; every other upgrade gets an HTTP
+// error). Who may connect: net/access_policy.h. Only run()'s thread touches libwebsockets; it
+// does I/O and message validation, never rendering or encoding. Other threads hand it frames and
+// failures through a locked inbox and wake it with lws_cancel_service.
+//
+// Flow control: a session's frames go out one at a time when its socket is writable; while the
+// socket is choked or its outgoing list holds max_unacked_frames frames the render loop does not
+// schedule it (RenderLoop::setSendBlocked), and the list never holds more (the oldest is dropped).
+// Acks count only for frames written. Every welcomed session is pinged with a random payload
+// every client_timeout_s / 3; a session that has echoed none for client_timeout_s (it does not
+// read: the ping waits behind the frames it has not read) is cut off.
 #pragma once
 
+#include "net/access_policy.h"
 #include "net/metrics.h"
 #include "net/render_loop.h"
 #include "net/server_messages.h"
@@ -14,6 +23,8 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,9 +40,10 @@ struct ServerOptions {
   std::string webRoot;                      // the directory served at /
   std::string token;                        // when set, hello must carry it
   std::vector<std::string> allowedOrigins;  // when set, the WebSocket Origin must be one of them
+  std::vector<std::string> allowedHosts;    // Host names accepted besides loopback ones
   uint32_t maxSessions = 8;
   Limits limits;
-  uint32_t clientTimeoutS = 30;  // no pong for this long: the client is gone
+  uint32_t clientTimeoutS = 30;  // no pong to our pings for this long: the client is cut off
   uint32_t helloTimeoutS = 10;   // no hello this long after connecting: closed
 };
 
@@ -69,17 +81,27 @@ class WsServer {
   struct Connection;  // one WebSocket, on run()'s thread only
 
  private:
-  // libwebsockets' callbacks: 0 to go on, -1 to close the connection; onHttp returns 1 for what
-  // libwebsockets' own HTTP handling answers (files of the web root, 404).
+  // libwebsockets' callbacks: 0 to go on, -1 to close the connection (1 to refuse an upgrade);
+  // onHttp returns nothing for what libwebsockets' default handling does.
   int onSession(lws* wsi, int reason, Connection*& slot, void* in, size_t len);
-  int onHttp(lws* wsi, int reason, std::string*& body);
+  std::optional<int> onHttp(lws* wsi, int reason, void* in);
   friend struct Callbacks;
+
+  int httpRequest(lws* wsi);
+  int confirmUpgrade(lws* wsi, const char* upgrade);
+  int serveFile(lws* wsi, const std::string& uri);
+  int healthz(lws* wsi, bool head);
+  void tick();  // four times a second: pings, cut-offs
 
   void open(lws* wsi, Connection*& slot);
   int receive(lws* wsi, Connection& c, const char* data, size_t len);
   int handleMessage(lws* wsi, Connection& c, const std::string& text);
   int hello(lws* wsi, Connection& c, const HelloMessage& hello);
   int writeNext(lws* wsi, Connection& c);
+  int writeFrame(lws* wsi, Connection& c);
+  void pong(Connection& c, const void* payload, size_t len);
+  void dropFrame(Connection& c, const StreamFrame& frame);
+  void updateSendBlocked(Connection& c);
   void closed(Connection& c);
   void takeInbox();
 
@@ -89,6 +111,8 @@ class WsServer {
   int closeNow(lws* wsi, Connection& c, uint16_t code, const std::string& reason);
 
   ServerOptions options_;
+  AccessPolicy access_;
+  std::string webRoot_;  // the web root's real path (symlinks resolved)
   SessionTemplate session_;
   RenderLoop& renderLoop_;
   Metrics& metrics_;
@@ -100,8 +124,9 @@ class WsServer {
   int welcomed_ = 0;
   bool stopping_ = false;
   bool shutdownDeadline_ = false;
-  struct LwsSetup;  // what the context points into: protocols, mounts, timers
+  struct LwsSetup;  // what the context points into: protocols, timers
   std::unique_ptr<LwsSetup> lws_;
+  std::mt19937_64 random_;  // ping payloads
 
   std::mutex inboxMutex_;
   std::vector<StreamFrame> inboxFrames_;

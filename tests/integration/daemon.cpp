@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -68,6 +69,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   close(logFd);
   stdout_ = pipeFds[0];
 
+  if (!options.waitUntilListening) return;
   // The daemon prints the URL to open once it listens.
   std::string output;
   auto deadline = std::chrono::steady_clock::now() + kTimeout;
@@ -111,6 +113,13 @@ int Daemon::stop() {
   pid_ = -1;
   exitCode_ = 128 + SIGKILL;
   return exitCode_;
+}
+
+uint64_t Daemon::rssBytes() const {
+  std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with("VmRSS:")) return std::stoull(line.substr(6)) * 1024;
+  return 0;
 }
 
 std::string Daemon::log() const {
@@ -160,17 +169,24 @@ void RawConnection::close() {
 }
 
 bool RawConnection::handshake() {
-  std::string request =
-      "GET /session HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
-      "Sec-WebSocket-Protocol: hdof.v1\r\n\r\n";
+  return upgrade("/session", {"Sec-WebSocket-Protocol: hdof.v1"}) == 101;
+}
+
+int RawConnection::upgrade(const std::string& path, const std::vector<std::string>& headers) {
+  std::string request = "GET " + path +
+                        " HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\n"
+                        "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+                        "Sec-WebSocket-Version: 13\r\n";
+  for (const std::string& line : headers) request += line + "\r\n";
+  request += "\r\n";
   std::string response;
   bool ok = open() && sendAll(fd_, request);
   for (uint8_t byte; ok && response.find("\r\n\r\n") == std::string::npos;) {
     ok = receiveExactly(fd_, &byte, 1);
     response += char(byte);
   }
-  return ok && response.starts_with("HTTP/1.1 101");
+  if (!ok || !response.starts_with("HTTP/1.")) return 0;
+  return std::atoi(response.c_str() + 9);
 }
 
 bool RawConnection::sendBytes(const std::string& bytes) { return open() && sendAll(fd_, bytes); }
@@ -269,6 +285,42 @@ HttpResponse httpGet(int port, const std::string& path) {
   if (auto body = text.find("\r\n\r\n"); body != std::string::npos)
     response.body = text.substr(body + 4);
   return response;
+}
+
+HttpExchange httpRequest(int port, const std::string& method, const std::string& path,
+                         const std::vector<std::string>& headers) {
+  HttpExchange response;
+  int fd = connectLoopback(port);
+  if (fd < 0) return response;
+  std::string request = method + " " + path + " HTTP/1.1\r\nConnection: close\r\n";
+  bool hasHost = false;
+  for (const std::string& line : headers) {
+    request += line + "\r\n";
+    hasHost = hasHost || line.starts_with("Host:");
+  }
+  if (!hasHost) request += "Host: 127.0.0.1:" + std::to_string(port) + "\r\n";
+  request += "\r\n";
+  std::string text;
+  if (sendAll(fd, request)) {
+    char buffer[4096];
+    for (ssize_t n; (n = recv(fd, buffer, sizeof(buffer), 0)) > 0;) text.append(buffer, size_t(n));
+  }
+  close(fd);
+  response.closed = text.empty();
+  if (text.starts_with("HTTP/1.")) response.status = std::atoi(text.c_str() + 9);
+  auto end = text.find("\r\n\r\n");
+  response.head = text.substr(0, end);
+  for (char& c : response.head) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (end != std::string::npos) response.body = text.substr(end + 4);
+  return response;
+}
+
+std::string headerOf(const HttpExchange& response, const std::string& name) {
+  auto at = response.head.find("\r\n" + name + ":");
+  if (at == std::string::npos) return "";
+  auto start = response.head.find_first_not_of(' ', at + name.size() + 3);
+  auto end = response.head.find("\r\n", start);
+  return response.head.substr(start, end == std::string::npos ? std::string::npos : end - start);
 }
 
 std::unique_ptr<net::WsClient> connectSession(int port, const std::string& origin) {

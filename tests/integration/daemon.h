@@ -24,6 +24,7 @@ struct DaemonOptions {
   std::vector<std::string> args;                         // after `hdof serve --port 0`
   std::string config;                                    // JSON; written to a file for --config
   std::vector<std::pair<std::string, std::string>> env;  // added to the environment
+  bool waitUntilListening = true;  // false: the constructor returns at once (port() is 0)
 };
 
 class Daemon {
@@ -31,6 +32,9 @@ class Daemon {
   explicit Daemon(const DaemonOptions& options = {});
   ~Daemon();
   int port() const { return port_; }
+  pid_t pid() const { return pid_; }
+  // The daemon's resident memory (VmRSS) in bytes; 0 when it cannot be read.
+  uint64_t rssBytes() const;
   // SIGTERM, then waits for the exit; returns the exit code (or 128 + signal).
   int stop();
   // What the daemon wrote to stderr so far.
@@ -49,6 +53,17 @@ struct HttpResponse {
   std::string body;
 };
 HttpResponse httpGet(int port, const std::string& path);
+// Any request; `headers` are whole lines without CRLF (a Host header is added unless given).
+// The response's head (status line and headers, lowercased names) is in `head`.
+struct HttpExchange {
+  int status = 0;
+  std::string head, body;
+  bool closed = false;  // the daemon closed without an answer
+};
+HttpExchange httpRequest(int port, const std::string& method, const std::string& path,
+                         const std::vector<std::string>& headers = {});
+// The value of a response header (name lowercase), empty when absent.
+std::string headerOf(const HttpExchange& response, const std::string& name);
 
 std::unique_ptr<net::WsClient> connectSession(int port, const std::string& origin = "");
 // hello with the viewport (and token, when given); returns the welcome, or fails the test.
@@ -85,6 +100,8 @@ class RawConnection {
   int fd() const { return fd_; }
   // The WebSocket upgrade to /session; true when the daemon switched protocols.
   bool handshake();
+  // An upgrade to `path` with these extra header lines; the status code of the answer (0: none).
+  int upgrade(const std::string& path, const std::vector<std::string>& headers);
   bool sendBytes(const std::string& bytes);
   // One masked text frame (mask 0).
   bool sendText(const std::string& text);

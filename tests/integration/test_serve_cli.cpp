@@ -59,6 +59,11 @@ TEST(ServeCli, BadUsageIsAOneLineErrorWithExitCode2) {
                    "max_rays_per_pixel");
   expectUsageError("--web-root /no/such/dir", "/no/such/dir");
   expectUsageError("--scene builtin:nope", "nope");
+  // A token hello cannot carry, and a token in clear text on a non-loopback address.
+  expectUsageError("--token " + std::string(257, 'x'), "at most 256");
+  expectUsageError("--bind 0.0.0.0 --token s3cret", "--allow-insecure-token");
+  expectUsageError("--config " + configFile("hosts.json", R"({"allowed_hosts": "a"})"),
+                   "allowed_hosts");
 }
 
 TEST(ServeCli, HelpListsTheOptions) {
@@ -68,7 +73,8 @@ TEST(ServeCli, HelpListsTheOptions) {
   char buffer[256];
   while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) out.append(buffer, n);
   EXPECT_EQ(pclose(pipe), 0);
-  for (const char* option : {"--port", "--bind", "--scene", "--config", "--token", "--web-root"})
+  for (const char* option : {"--port", "--bind", "--scene", "--config", "--token", "--web-root",
+                             "--allow-origin", "--allow-host", "--allow-insecure-token"})
     EXPECT_NE(out.find(option), std::string::npos) << option;
 }
 

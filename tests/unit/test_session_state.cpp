@@ -1,6 +1,7 @@
 // A session's scheduling without GPU or network: frames on change, while accumulating and once
-// at still quality when the view rests; never more than max_unacked_frames in flight; the newest
-// camera wins; focus_at and the focus pull.
+// at still quality when the view rests; never more than max_unacked_frames in flight, only sent
+// frames can be acked, none while the connection is blocked; the newest camera wins; focus_at and
+// the focus pull.
 #include "net/session_state.h"
 
 #include <gtest/gtest.h>
@@ -33,6 +34,12 @@ CameraMessage camera(uint32_t seq, float x) {
 
 std::optional<float> noFocus(const Camera&, Viewport, float, float) { return std::nullopt; }
 
+// The server wrote the frame, then the client acked it.
+std::optional<ProtocolError> sentAndAcked(SessionState& s, uint32_t frame, Clock::time_point t) {
+  s.frameSent(frame);
+  return s.apply(AckMessage{frame}, t);
+}
+
 bool dueAt(const SessionState& s, Clock::time_point t) {
   auto due = s.nextFrameDue();
   return due && *due <= t;
@@ -46,14 +53,14 @@ TEST(SessionState, OneFrameThenIdleForAStillRasterView) {
   EXPECT_EQ(first.jpegQuality, 90);
   EXPECT_FALSE(first.inputReceived);
   EXPECT_EQ(first.request.settings.width, 64u);
-  ASSERT_FALSE(s.apply(AckMessage{1}, kStart));
+  ASSERT_FALSE(sentAndAcked(s, 1, kStart));
   EXPECT_FALSE(s.nextFrameDue()) << "idle: nothing changed";
 }
 
 TEST(SessionState, NewestCameraWinsAndCarriesItsSeq) {
   SessionState s(defaults(RenderMode::PostProcess), {64, 48});
   s.startFrame(kStart, noFocus);
-  s.apply(AckMessage{1}, kStart);
+  sentAndAcked(s, 1, kStart);
   s.apply(camera(1, 1.0f), kStart + 1ms);
   s.apply(camera(2, 2.0f), kStart + 2ms);
   EXPECT_EQ(s.inputsCoalesced(), 1u);
@@ -72,12 +79,52 @@ TEST(SessionState, AtMostMaxUnackedFramesInFlight) {
   EXPECT_FALSE(s.nextFrameDue()) << "two frames without an ack";
   s.apply(camera(1, 1.0f), kStart + 2ms);
   EXPECT_FALSE(s.nextFrameDue()) << "a change does not lift the limit";
-  s.apply(AckMessage{1}, kStart + 3ms);
+  sentAndAcked(s, 1, kStart + 3ms);
   EXPECT_TRUE(dueAt(s, kStart + 3ms));
   ProtocolError error = *s.apply(AckMessage{9}, kStart);
   EXPECT_EQ(error.field, "frame");
   s.frameDropped(2);
   EXPECT_EQ(s.framesInFlight(), 0u);
+}
+
+TEST(SessionState, OnlyFramesSentCanBeAcked) {
+  // A client that acks frames it cannot have seen must not open the window: the frames would
+  // pile up in the daemon.
+  SessionState s(defaults(RenderMode::RayTrace), {64, 48});
+  s.startFrame(kStart, noFocus);
+  s.startFrame(kStart + 1ms, noFocus);
+  std::optional<ProtocolError> early = s.apply(AckMessage{1}, kStart + 2ms);
+  ASSERT_TRUE(early) << "frame 1 was started, not sent";
+  EXPECT_EQ(early->code, ErrorCode::OutOfRange);
+  EXPECT_EQ(early->field, "frame");
+  EXPECT_FALSE(s.nextFrameDue()) << "the window stays closed";
+  s.frameSent(1);
+  EXPECT_TRUE(s.apply(AckMessage{2}, kStart + 3ms)) << "frame 2 is not sent yet";
+  EXPECT_FALSE(s.apply(AckMessage{1}, kStart + 3ms));
+  EXPECT_EQ(s.framesInFlight(), 1u);
+}
+
+TEST(SessionState, AnAckLeavesAnEarlierFrameNotYetSentInFlight) {
+  // Encodes can finish out of order: frame 2 goes out before frame 1.
+  SessionState s(defaults(RenderMode::RayTrace), {64, 48});
+  s.startFrame(kStart, noFocus);
+  s.startFrame(kStart + 1ms, noFocus);
+  s.frameSent(2);
+  ASSERT_FALSE(s.apply(AckMessage{2}, kStart + 2ms));
+  EXPECT_EQ(s.framesInFlight(), 1u) << "frame 1 is still on its way";
+  s.frameSent(1);
+  ASSERT_FALSE(s.apply(AckMessage{1}, kStart + 3ms));
+  EXPECT_EQ(s.framesInFlight(), 0u);
+}
+
+TEST(SessionState, NoFrameWhileTheConnectionIsBlocked) {
+  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  s.setSendBlocked(true);
+  EXPECT_FALSE(s.nextFrameDue()) << "the socket is choked or the outgoing list full";
+  s.apply(camera(1, 1.0f), kStart);
+  EXPECT_FALSE(s.nextFrameDue());
+  s.setSendBlocked(false);
+  EXPECT_TRUE(dueAt(s, kStart));
 }
 
 TEST(SessionState, RayTracedModesAccumulateThenIdle) {
@@ -87,7 +134,7 @@ TEST(SessionState, RayTracedModesAccumulateThenIdle) {
     ASSERT_TRUE(dueAt(s, t)) << i;
     FramePlan plan = s.startFrame(t, noFocus);
     EXPECT_EQ(plan.accumulatedFrames, i);
-    s.apply(AckMessage{plan.frame}, t);
+    sentAndAcked(s, plan.frame, t);
     t += 5ms;
   }
   EXPECT_FALSE(s.nextFrameDue()) << "converged";
@@ -98,11 +145,11 @@ TEST(SessionState, RayTracedModesAccumulateThenIdle) {
 TEST(SessionState, AStillQualityFrameOnceTheViewRests) {
   SessionState s(defaults(RenderMode::PostProcess), {64, 48});
   s.startFrame(kStart, noFocus);
-  s.apply(AckMessage{1}, kStart);
+  sentAndAcked(s, 1, kStart);
   s.apply(camera(1, 1.0f), kStart + 10ms);
   FramePlan moving = s.startFrame(kStart + 11ms, noFocus);
   EXPECT_EQ(moving.jpegQuality, 50);
-  s.apply(AckMessage{moving.frame}, kStart + 12ms);
+  sentAndAcked(s, moving.frame, kStart + 12ms);
   auto due = s.nextFrameDue();
   ASSERT_TRUE(due);
   EXPECT_EQ(*due, kStart + 110ms) << "still_after_ms after the last change";
@@ -110,7 +157,7 @@ TEST(SessionState, AStillQualityFrameOnceTheViewRests) {
   EXPECT_EQ(still.jpegQuality, 90);
   EXPECT_EQ(still.seq, 1u);
   EXPECT_FALSE(still.inputReceived);
-  s.apply(AckMessage{still.frame}, *due);
+  sentAndAcked(s, still.frame, *due);
   EXPECT_FALSE(s.nextFrameDue());
 }
 
@@ -134,15 +181,15 @@ TEST(SessionState, FocusAtSetsTheFocusAndPullsSmoothly) {
   ASSERT_FALSE(s.apply(FocusAtMessage{1, 3.0f, 4.0f}, kStart));
   EXPECT_EQ(s.startFrame(kStart, pick).request.lens.focusDistance, 7.0f);
   EXPECT_EQ(seen.width, 64u);
-  s.apply(AckMessage{1}, kStart);
+  sentAndAcked(s, 1, kStart);
 
   ASSERT_FALSE(s.apply(FocusAtMessage{2, 10.0f, 7.0f, 1000.0f}, kStart + 1ms));
   EXPECT_EQ(s.startFrame(kStart + 1ms, pick).request.lens.focusDistance, 7.0f) << "pull starts";
-  s.apply(AckMessage{2}, kStart);
+  sentAndAcked(s, 2, kStart);
   ASSERT_TRUE(s.nextFrameDue()) << "frames while pulling";
   float middle = s.startFrame(kStart + 501ms, pick).request.lens.focusDistance;
   EXPECT_NEAR(middle, 12.0f, 1e-3f);
-  s.apply(AckMessage{3}, kStart);
+  sentAndAcked(s, 3, kStart);
   EXPECT_EQ(s.startFrame(kStart + 2s, pick).request.lens.focusDistance, 17.0f);
 }
 
