@@ -43,8 +43,11 @@ SessionState::SessionState(const SessionDefaults& defaults, Viewport viewport)
       camera_(defaults.camera),
       lens_(defaults.lens) {}
 
-bool SessionState::accumulating() const {
-  return mode_ == RenderMode::RayTrace || mode_ == RenderMode::Hybrid;
+uint32_t SessionState::framesOfAStillView() const {
+  if (mode_ == RenderMode::RayTrace || mode_ == RenderMode::Hybrid)
+    return defaults_.accumulationFrames;
+  // The raster modes refine too: their anti-aliasing has converged by then.
+  return std::min(defaults_.accumulationFrames, kRasterRefineFrames);
 }
 
 Viewport SessionState::renderSize() const {
@@ -119,7 +122,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
 std::optional<Clock::time_point> SessionState::nextFrameDue() const {
   if (sendBlocked_ || inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
   Clock::time_point earliest = lastFrameStart_ + msDuration(1000.0 / stream_.maxFps);
-  bool converged = accumulated_ >= (accumulating() ? defaults_.accumulationFrames : 1u);
+  bool converged = accumulated_ >= framesOfAStillView();
   if (changed_ || pull_ || !converged) return earliest;
   // The view has come to rest after frames at moving quality: one at still quality.
   if (lastFrameMoving_) return std::max(earliest, lastMotion_ + msDuration(defaults_.stillAfterMs));

@@ -76,7 +76,9 @@ class SessionState {
   const Lens& lens() const { return lens_; }
 
  private:
-  bool accumulating() const;
+  // Frames a view renders while it rests (the mode's accumulation), then the session idles.
+  uint32_t framesOfAStillView() const;
+  static constexpr uint32_t kRasterRefineFrames = 16;
 
   SessionDefaults defaults_;
   Viewport viewport_;

@@ -45,7 +45,8 @@ bool dueAt(const SessionState& s, Clock::time_point t) {
   return due && *due <= t;
 }
 
-TEST(SessionState, OneFrameThenIdleForAStillRasterView) {
+// The raster modes refine a still view too (anti-aliasing), for at most 16 frames.
+TEST(SessionState, AStillRasterViewRefinesThenIdles) {
   SessionState s(defaults(RenderMode::PostProcess), {64, 48});
   ASSERT_TRUE(dueAt(s, kStart));
   FramePlan first = s.startFrame(kStart, noFocus);
@@ -54,7 +55,12 @@ TEST(SessionState, OneFrameThenIdleForAStillRasterView) {
   EXPECT_FALSE(first.inputReceived);
   EXPECT_EQ(first.request.settings.width, 64u);
   ASSERT_FALSE(sentAndAcked(s, 1, kStart));
-  EXPECT_FALSE(s.nextFrameDue()) << "idle: nothing changed";
+  for (uint32_t frame = 2; frame <= 4; ++frame) {
+    ASSERT_TRUE(s.nextFrameDue()) << frame;
+    EXPECT_EQ(s.startFrame(kStart, noFocus).accumulatedFrames, frame);
+    sentAndAcked(s, frame, kStart);
+  }
+  EXPECT_FALSE(s.nextFrameDue()) << "idle once the view's frames are done (accumulation_frames 4)";
 }
 
 TEST(SessionState, NewestCameraWinsAndCarriesItsSeq) {
@@ -143,7 +149,9 @@ TEST(SessionState, RayTracedModesAccumulateThenIdle) {
 }
 
 TEST(SessionState, AStillQualityFrameOnceTheViewRests) {
-  SessionState s(defaults(RenderMode::PostProcess), {64, 48});
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.accumulationFrames = 1;  // no refinement: the frame after the move is the still one
+  SessionState s(d, {64, 48});
   s.startFrame(kStart, noFocus);
   sentAndAcked(s, 1, kStart);
   s.apply(camera(1, 1.0f), kStart + 10ms);
