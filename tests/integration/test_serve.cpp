@@ -144,8 +144,9 @@ TEST(Serve, AcksGateFrames) {
 
 TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
   Daemon daemon(
-      withConfig("postprocess",
-                 R"("jpeg_quality_moving": 30, "jpeg_quality_still": 95, "still_after_ms": 200)"));
+      // accumulation_frames 1: no anti-aliasing frames after the still one.
+      withConfig("postprocess", R"("jpeg_quality_moving": 30, "jpeg_quality_still": 95,
+                                   "still_after_ms": 200, "accumulation_frames": 1)"));
   auto client = connectSession(daemon.port());
   nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
   std::optional<Frame> first = nextFrame(*client);
