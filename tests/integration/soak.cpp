@@ -1,0 +1,250 @@
+// The soak of docs/operations.md, disabled in the suite (it takes 2 x HDOF_SOAK_SECONDS, 600 by
+// default): one daemon, four well-behaved `hdof load` sessions in hybrid moving their cameras,
+// first alone, then beside two misbehaving clients:
+//   - a non-reader: a bare socket that says hello, then never reads, moves its camera at 10 Hz,
+//     acks the frames /metrics says were sent and the ones it says were rendered, and sends
+//     unsolicited pongs; cut off, it connects again;
+//   - a flooder: a WebSocket client that reads everything but never acks a frame, and sends
+//     about 2000 messages a second: camera moves, bad JSON, unknown types, acks of frames never
+//     sent.
+// It prints both runs' figures (frames/s, latency, errors of the good sessions; the daemon's RSS
+// every 5 s) and what the misbehavers did; it fails when the good sessions' frame rate drops
+// more than 20%, when they see an error, or when RSS moves more than 32 MB after the first minute.
+//   build/tests/hdof_integration_tests --gtest_also_run_disabled_tests
+//     --gtest_filter=Soak.*   (HDOF_SOAK_SECONDS=180 HDOF_SOAK_SIZE=160x90 to change)
+#include "daemon.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <future>
+#include <mutex>
+#include <thread>
+
+namespace hdof::test {
+namespace {
+
+int envInt(const char* name, int fallback) {
+  const char* value = std::getenv(name);
+  return value && *value ? std::atoi(value) : fallback;
+}
+
+std::string envText(const char* name, const std::string& fallback) {
+  const char* value = std::getenv(name);
+  return value && *value ? value : fallback;
+}
+
+struct RssSamples {
+  std::mutex mutex;
+  std::vector<std::pair<double, uint64_t>> samples;  // seconds since the run's start, bytes
+};
+
+struct PhaseResult {
+  nlohmann::json load;
+  std::vector<std::pair<double, uint64_t>> rss;
+};
+
+// Samples the daemon's RSS every 5 s until `done`.
+std::thread sampleRss(const Daemon& daemon, std::atomic<bool>& done, RssSamples& out) {
+  return std::thread([&daemon, &done, &out] {
+    auto start = std::chrono::steady_clock::now();
+    while (!done) {
+      double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      {
+        std::lock_guard lock(out.mutex);
+        out.samples.emplace_back(t, daemon.rssBytes());
+      }
+      for (int i = 0; i < 50 && !done; ++i) std::this_thread::sleep_for(100ms);
+    }
+  });
+}
+
+struct Misbehavers {
+  std::atomic<bool> stop{false};
+  std::atomic<uint64_t> nonReaderConnections{0}, nonReaderMessages{0};
+  std::atomic<uint64_t> flooderConnections{0}, flooderMessages{0}, flooderFrames{0},
+      flooderErrors{0};
+  std::vector<std::thread> threads;
+
+  void start(int port, uint32_t width, uint32_t height) {
+    threads.emplace_back([this, port, width, height] { nonReader(port, width, height); });
+    threads.emplace_back([this, port, width, height] { flooder(port, width, height); });
+  }
+  void finish() {
+    stop = true;
+    for (std::thread& thread : threads) thread.join();
+  }
+
+  void nonReader(int port, uint32_t width, uint32_t height) {
+    const std::string pong = std::string("\x8a\x80", 2) + std::string(4, '\0');
+    while (!stop) {
+      RawConnection connection(port);
+      if (!connection.handshake() || !connection.sendText(helloMessage(width, height))) {
+        std::this_thread::sleep_for(500ms);
+        continue;
+      }
+      ++nonReaderConnections;
+      for (uint32_t seq = 1; !stop; ++seq) {
+        std::string metrics = httpGet(port, "/metrics").body;
+        auto value = [&](const std::string& name) {
+          auto at = metrics.find("\n" + name + " ");
+          return at == std::string::npos ? 0.0 : std::atof(metrics.c_str() + at + name.size() + 2);
+        };
+        double sent = value("hdof_frames_sent_total");
+        double rendered = value("hdof_pass_seconds_count{pass=\"tonemap\"}");
+        nlohmann::json camera = {{"type", "camera"},
+                                 {"seq", seq},
+                                 {"position", {0.002 * (seq % 200), 1.4, 4.0}},
+                                 {"target", {0.0, 1.0, 0.0}},
+                                 {"fov_y_deg", 40}};
+        bool ok = connection.sendText(camera.dump()) &&
+                  connection.sendText(
+                      nlohmann::json{{"type", "ack"}, {"frame", uint32_t(sent)}}.dump()) &&
+                  connection.sendText(
+                      nlohmann::json{{"type", "ack"}, {"frame", uint32_t(rendered)}}.dump()) &&
+                  connection.sendBytes(pong);
+        if (!ok) break;  // cut off: connect again
+        nonReaderMessages += 4;
+        std::this_thread::sleep_for(100ms);
+      }
+    }
+  }
+
+  void flooder(int port, uint32_t width, uint32_t height) {
+    while (!stop) {
+      net::WsClientOptions options;
+      options.port = port;
+      net::WsClient client(options);
+      if (!client.connected(10s)) {
+        std::this_thread::sleep_for(500ms);
+        continue;
+      }
+      ++flooderConnections;
+      client.sendText(helloMessage(width, height));
+      bool closed = false;
+      for (uint32_t seq = 1; !stop && !closed; ++seq) {
+        for (int i = 0; i < 10; ++i) {
+          client.sendText(nlohmann::json{
+              {"type", "camera"},
+              {"seq", seq * 10 + i},
+              {"position", {0.001 * i, 1.5, 4.0 + 0.001 * seq}},
+              {"target", {0.0, 1.0, 0.0}},
+              {"fov_y_deg",
+               40}}.dump());
+        }
+        for (int i = 0; i < 5; ++i) client.sendText("{not json");
+        for (int i = 0; i < 5; ++i) client.sendText(R"({"type":"ack","frame":4000000000})");
+        for (int i = 0; i < 2; ++i) client.sendText(R"({"type":"teleport"})");
+        flooderMessages += 22;
+        while (auto message = client.receive(0ms)) {
+          if (message->kind == net::WsMessage::Kind::Closed) {
+            closed = true;
+            break;
+          }
+          if (message->kind == net::WsMessage::Kind::Binary) ++flooderFrames;
+          if (message->kind == net::WsMessage::Kind::Text &&
+              message->text.find("\"error\"") != std::string::npos)
+            ++flooderErrors;
+        }
+        std::this_thread::sleep_for(10ms);
+      }
+    }
+  }
+};
+
+PhaseResult runPhase(Daemon& daemon, int seconds, const std::string& size,
+                     Misbehavers* misbehavers) {
+  RssSamples rss;
+  std::atomic<bool> done{false};
+  std::thread sampler = sampleRss(daemon, done, rss);
+  if (misbehavers) {
+    uint32_t width = 160, height = 90;
+    std::sscanf(size.c_str(), "%ux%u", &width, &height);
+    misbehavers->start(daemon.port(), width, height);
+  }
+  CommandResult result = runHdof("load --url ws://127.0.0.1:" + std::to_string(daemon.port()) +
+                                 " --sessions 4 --duration " + std::to_string(seconds) +
+                                 " --mode hybrid --size " + size + " --json");
+  if (misbehavers) misbehavers->finish();
+  done = true;
+  sampler.join();
+  EXPECT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  PhaseResult run;
+  run.load = nlohmann::json::parse(result.out, nullptr, false);
+  run.rss = rss.samples;
+  return run;
+}
+
+void print(const char* phase, const PhaseResult& run) {
+  const nlohmann::json& total = run.load["total"];
+  std::printf("%s: fps=%.2f per_session=", phase, total.value("fps", 0.0));
+  for (const nlohmann::json& session : run.load["sessions"])
+    std::printf("%.2f,", session.value("fps", 0.0));
+  std::printf(" fps_min_over_max=%.2f latency_p50_ms=%.1f p95=%.1f p99=%.1f errors=%d\n",
+              run.load.value("fps_min_over_max", 0.0), total["latency_ms"].value("p50", 0.0),
+              total["latency_ms"].value("p95", 0.0), total["latency_ms"].value("p99", 0.0),
+              total.value("errors", -1));
+  std::printf("%s: rss_mb", phase);
+  for (const auto& [t, bytes] : run.rss) std::printf(" %.0fs=%.1f", t, double(bytes) / 1e6);
+  std::printf("\n");
+}
+
+// The RSS range after the first minute, or the first half of a shorter run (scene, pipelines and
+// allocator arenas are set up by then).
+std::pair<double, double> warmRssRange(const PhaseResult& run, int seconds) {
+  double low = 1e30, high = 0.0;
+  for (const auto& [t, bytes] : run.rss)
+    if (t >= std::min(60.0, 0.5 * seconds)) {
+      low = std::min(low, double(bytes));
+      high = std::max(high, double(bytes));
+    }
+  return {low, high};
+}
+
+TEST(Soak, DISABLED_FourHybridSessionsBesideANonReaderAndAFlooder) {
+  int seconds = envInt("HDOF_SOAK_SECONDS", 600);
+  std::string size = envText("HDOF_SOAK_SIZE", "160x90");
+  Daemon daemon({{}, R"({"mode": "hybrid", "max_sessions": 16})", {}});
+  std::printf("soak: %d s per run, 4 hybrid sessions at %s, daemon pid %d\n", seconds, size.c_str(),
+              int(daemon.pid()));
+  std::fflush(stdout);
+
+  PhaseResult alone = runPhase(daemon, seconds, size, nullptr);
+  print("alone", alone);
+  std::fflush(stdout);
+  Misbehavers misbehavers;
+  PhaseResult beside = runPhase(daemon, seconds, size, &misbehavers);
+  print("with_misbehavers", beside);
+  std::printf(
+      "misbehavers: non_reader connections=%llu messages=%llu; flooder connections=%llu "
+      "messages=%llu frames=%llu errors_received=%llu\n",
+      (unsigned long long)misbehavers.nonReaderConnections.load(),
+      (unsigned long long)misbehavers.nonReaderMessages.load(),
+      (unsigned long long)misbehavers.flooderConnections.load(),
+      (unsigned long long)misbehavers.flooderMessages.load(),
+      (unsigned long long)misbehavers.flooderFrames.load(),
+      (unsigned long long)misbehavers.flooderErrors.load());
+  std::string metrics = httpGet(daemon.port(), "/metrics").body;
+  for (const char* name :
+       {"hdof_sessions_total", "hdof_sessions_timed_out_total", "hdof_frames_rendered_total",
+        "hdof_frames_sent_total", "hdof_frames_dropped_total", "hdof_frames_queued",
+        "hdof_inputs_coalesced_total"})
+    std::printf("%s %s\n", name, std::to_string(metricValue(daemon.port(), name)).c_str());
+  double ratio = beside.load["total"].value("fps", 0.0) /
+                 std::max(1e-9, alone.load["total"].value("fps", 0.0));
+  auto [aloneLow, aloneHigh] = warmRssRange(alone, seconds);
+  auto [besideLow, besideHigh] = warmRssRange(beside, seconds);
+  std::printf(
+      "fps_ratio=%.3f rss_warm_alone_mb=%.1f..%.1f rss_warm_with_misbehavers_mb=%.1f..%.1f\n",
+      ratio, aloneLow / 1e6, aloneHigh / 1e6, besideLow / 1e6, besideHigh / 1e6);
+  EXPECT_EQ(alone.load["total"].value("errors", -1), 0);
+  EXPECT_EQ(beside.load["total"].value("errors", -1), 0);
+  EXPECT_GE(ratio, 0.8) << "the good sessions' frame rate within 20%";
+  EXPECT_LT(std::max(aloneHigh, besideHigh) - std::min(aloneLow, besideLow), 32e6) << "RSS flat";
+  EXPECT_EQ(daemon.stop(), 0) << daemon.log();
+}
+
+}  // namespace
+}  // namespace hdof::test
