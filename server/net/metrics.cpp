@@ -73,6 +73,11 @@ void Metrics::sessionTimedOut() {
   ++timedOut_;
 }
 
+void Metrics::setSessionsNotReading(int sessions) {
+  std::lock_guard lock(mutex_);
+  notReading_ = sessions;
+}
+
 void Metrics::inputsCoalesced(uint64_t count) {
   std::lock_guard lock(mutex_);
   coalesced_ += count;
@@ -108,6 +113,9 @@ std::string Metrics::prometheusText() const {
   header(out, "hdof_sessions_timed_out_total", "counter",
          "Sessions cut off for answering no ping for client_timeout_s (not reading).");
   sample(out, "hdof_sessions_timed_out_total", "", double(timedOut_));
+  header(out, "hdof_sessions_not_reading", "gauge",
+         "Sessions paused: a ping of theirs has gone unanswered for a second.");
+  sample(out, "hdof_sessions_not_reading", "", notReading_);
   header(out, "hdof_frames_rendered_total", "counter", "Frames rendered.");
   sample(out, "hdof_frames_rendered_total", "", double(rendered_));
   header(out, "hdof_frames_queued", "gauge",

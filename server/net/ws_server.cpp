@@ -25,6 +25,10 @@ namespace {
 constexpr size_t kMaxQueuedText = 16;
 constexpr size_t kMaxCloseReason = 123;  // RFC 6455: a close frame's payload is at most 125 bytes
 constexpr lws_usec_t kTickUs = LWS_US_PER_SEC / 4;  // how often tick() looks at pings and cut-offs
+// Pings go out this often (or every client_timeout_s / 3 when that is shorter); a session that
+// leaves one unanswered for kPingGrace is not rendered for until it answers.
+constexpr auto kPingEvery = std::chrono::seconds(2);
+constexpr auto kPingGrace = std::chrono::seconds(1);
 // A ping's payload: 64 random bits in hex (text: libwebsockets checks a pong's payload as UTF-8).
 constexpr size_t kPingBytes = 16;
 using PingPayload = std::array<char, kPingBytes>;
@@ -187,6 +191,8 @@ struct WsServer::Connection {
   std::deque<PingPayload> pings;
   bool pingDue = false;
   Clock::time_point lastPing, lastPong;
+  std::optional<Clock::time_point> pingUnanswered;  // when the oldest unanswered ping went out
+  bool unresponsive = false;  // it has left a ping unanswered for kPingGrace: not reading now
   bool timedOut = false;
   uint64_t framesSent = 0, bytesSent = 0, errors = 0, dropped = 0;
   uint16_t closeCode = 0;  // the code the daemon closed with; 0: the client closed or vanished
@@ -601,6 +607,7 @@ int WsServer::writeNext(lws* wsi, Connection& c) {
     c.pings.push_back(payload);
     if (c.pings.size() > 4) c.pings.pop_front();
     c.lastPing = Clock::now();
+    if (!c.pingUnanswered) c.pingUnanswered = c.lastPing;
     unsigned char buffer[LWS_PRE + kPingBytes];
     std::memcpy(buffer + LWS_PRE, payload.data(), payload.size());
     if (lws_write(wsi, buffer + LWS_PRE, kPingBytes, LWS_WRITE_PING) < int(kPingBytes)) return -1;
@@ -666,6 +673,11 @@ void WsServer::pong(Connection& c, const void* payload, size_t len) {
     if (len == ping.size() && std::memcmp(payload, ping.data(), len) == 0) {
       c.lastPong = Clock::now();
       c.pings.clear();
+      c.pingUnanswered.reset();
+      if (c.unresponsive) {
+        c.unresponsive = false;
+        updateSendBlocked(c);
+      }
       return;
     }
 }
@@ -674,7 +686,8 @@ void WsServer::tick() {
   lws_sul_schedule(context_, 0, &lws_->tick.sul, Callbacks::tick, kTickUs);
   Clock::time_point now = Clock::now();
   auto timeout = std::chrono::milliseconds(1000 * options_.clientTimeoutS);
-  auto pingEvery = timeout / 3;
+  auto pingEvery = std::min<Clock::duration>(timeout / 3, kPingEvery);
+  int notReading = 0;
   for (auto& [id, connection] : connections_) {
     Connection& c = *connection;
     if (!c.welcomed || c.timedOut) continue;
@@ -686,11 +699,21 @@ void WsServer::tick() {
       logEvent("session_timeout", "session=" + std::to_string(c.id) + " peer=" + logValue(c.peer) +
                                       " frames_waiting=" + std::to_string(c.framesOut.size()));
       lws_set_timeout(c.wsi, PENDING_TIMEOUT_USER_OK, LWS_TO_KILL_ASYNC);
-    } else if (!c.closing && !c.pingDue && now - c.lastPing >= pingEvery) {
+      continue;
+    }
+    if (!c.unresponsive && c.pingUnanswered && now - *c.pingUnanswered >= kPingGrace) {
+      // A reader echoes a ping within a round trip: this one has not read for a while (or is far
+      // behind). No frames for it until it answers, whatever it acks.
+      c.unresponsive = true;
+      updateSendBlocked(c);
+    }
+    notReading += c.unresponsive;
+    if (!c.closing && !c.pingDue && now - c.lastPing >= pingEvery) {
       c.pingDue = true;
       lws_callback_on_writable(c.wsi);
     }
   }
+  metrics_.setSessionsNotReading(notReading);
 }
 
 void WsServer::dropFrame(Connection& c, const StreamFrame& frame) {
@@ -700,8 +723,8 @@ void WsServer::dropFrame(Connection& c, const StreamFrame& frame) {
 }
 
 void WsServer::updateSendBlocked(Connection& c) {
-  bool blocked =
-      c.choked || c.framesOut.size() >= std::max<size_t>(1, options_.limits.maxUnackedFrames);
+  bool blocked = c.choked || c.unresponsive ||
+                 c.framesOut.size() >= std::max<size_t>(1, options_.limits.maxUnackedFrames);
   if (blocked == c.sendBlocked || !c.welcomed) return;
   c.sendBlocked = blocked;
   renderLoop_.setSendBlocked(c.id, blocked);

@@ -9,8 +9,9 @@
 // socket is choked or its outgoing list holds max_unacked_frames frames the render loop does not
 // schedule it (RenderLoop::setSendBlocked), and the list never holds more (the oldest is dropped).
 // Acks count only for frames written. Every welcomed session is pinged with a random payload
-// every client_timeout_s / 3; a session that has echoed none for client_timeout_s (it does not
-// read: the ping waits behind the frames it has not read) is cut off.
+// every 2 s (client_timeout_s / 3 when shorter), which only a client that reads what came before
+// can echo: one that leaves a ping unanswered for a second is not scheduled until it answers, and
+// one that has echoed none for client_timeout_s is cut off.
 #pragma once
 
 #include "net/access_policy.h"

@@ -117,6 +117,42 @@ TEST(Hardening, AForgedAckNonReaderCannotMakeFramesPileUp) {
   EXPECT_TRUE(nextFrame(*client)) << daemon.log();
 }
 
+// 1b. A non-reader whose frames are small enough that its socket never fills, and that acks by
+//     counting (every number up to a guess that keeps growing): it gets frames only until it
+//     leaves one of the daemon's pings unanswered for a second, then none while it stays
+//     connected (long before client_timeout_s cuts it off).
+TEST(Hardening, ACountingForgerIsPausedOnceItLeavesAPingUnanswered) {
+  Daemon daemon({{}, R"({"mode": "pinhole", "max_fps": 240, "client_timeout_s": 60})", {}});
+  RawConnection attacker(daemon.port());
+  ASSERT_TRUE(attacker.handshake());
+  ASSERT_TRUE(attacker.sendText(helloMessage(kWidth, kHeight)));
+  uint32_t guess = 0;
+  auto attack = [&] {
+    ++guess;
+    nlohmann::json camera = {{"type", "camera"},
+                             {"seq", guess},
+                             {"position", {0.001 * (guess % 100), 1.5, 4.0}},
+                             {"target", {0.0, 1.0, 0.0}},
+                             {"fov_y_deg", 40}};
+    attacker.sendText(camera.dump());
+    for (uint32_t frame = guess > 8 ? guess - 8 : 1; frame <= guess; ++frame)
+      attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", frame}}.dump());
+    std::this_thread::sleep_for(10ms);
+  };
+  bool paused = eventually([&] {
+    attack();
+    return metricValue(daemon.port(), "hdof_sessions_not_reading") == 1.0;
+  });
+  ASSERT_TRUE(paused) << daemon.log();
+  double rendered = metricValue(daemon.port(), "hdof_frames_rendered_total");
+  EXPECT_GT(rendered, 0.0);
+  for (int i = 0; i < 100; ++i) attack();  // a second more of it
+  EXPECT_EQ(metricValue(daemon.port(), "hdof_frames_rendered_total"), rendered)
+      << "no frames while it does not answer";
+  EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions"), 1.0) << "still connected";
+  EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions_timed_out_total"), 0.0);
+}
+
 // 2. Only an hdof.v1 upgrade on /session becomes a session; every other upgrade is an HTTP error
 //    and counts for nothing.
 TEST(Hardening, UpgradesWithoutTheSubprotocolGetAnHttpError) {
