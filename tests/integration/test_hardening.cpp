@@ -51,7 +51,7 @@ bool eventually(Condition condition) {
 }
 
 // 1. A client that never reads, keeps moving the camera and acks every frame it can predict
-//    (the count /metrics shows, and beyond it), and sends unsolicited pongs, as a library that
+//    (the counts /metrics shows, and one beyond), and sends unsolicited pongs, as a library that
 //    answers pings for it would. Its acks open the window only for frames written to its socket;
 //    the socket fills, the session stops being scheduled, and it is cut off after
 //    client_timeout_s: the daemon's queued frames stay within max_unacked_frames, its RSS flat.
@@ -94,6 +94,7 @@ TEST(Hardening, AForgedAckNonReaderCannotMakeFramesPileUp) {
     attacker.sendText(camera.dump());
     attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", uint32_t(sent)}}.dump());
     attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", uint32_t(rendered)}}.dump());
+    attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", uint32_t(rendered) + 1}}.dump());
     attacker.sendBytes(pong);
     rssMost = std::max(rssMost, daemon.rssBytes());
     std::this_thread::sleep_for(5ms);
