@@ -11,6 +11,7 @@ layout(location = 0) flat out uint outTriangle;
 void main() {
   outTriangle = uint(gl_VertexIndex) / 3u;
   gl_Position = frame.viewProj * vec4(inPosition, 1.0);
-  // This frame's anti-aliasing sample position within the pixel (clip space scales with w).
-  gl_Position.xy += frame.rasterJitter * (2.0 / vec2(frame.imageSize)) * gl_Position.w;
+  // This frame's anti-aliasing sample position within the pixel: the geometry moves the other
+  // way, so that the pixel centre covers what lies at centre + jitter (clip space scales with w).
+  gl_Position.xy -= frame.rasterJitter * (2.0 / vec2(frame.imageSize)) * gl_Position.w;
 }

@@ -58,6 +58,8 @@ void main() {
   vec3 toOrigin = frame.eye - a;
   vec2 barycentrics =
       vec2(dot(toOrigin, p), dot(direction, cross(toOrigin, edge1))) * inverseDet;
+  barycentrics = clamp(barycentrics, 0.0, 1.0);
+  barycentrics /= max(1.0, barycentrics.x + barycentrics.y);
   SurfacePoint s = surfaceOfTriangle(triangle, barycentrics);
   vec3 toEye = frame.eye - s.position;
   float distance = length(toEye);
