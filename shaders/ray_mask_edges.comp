@@ -69,6 +69,14 @@ void main() {
     edge = depthEdge;
     diameter = min(farCoc, kRayMaskSilhouetteReach) + 2.0;
   }
+  // While the view rests (the raster is refining), every edge whose blur spans a pixel: the
+  // post-process's small blurs are approximate there, and only rays converge to the lens's image.
+  float wider = max(nearCoc, abs(farCoc));
+  if (!needsRays && frame.rasterSample > 0u && max(depthEdge, normalEdge) > 0.0 && wider >= 1.0) {
+    needsRays = true;
+    edge = max(depthEdge, normalEdge);
+    diameter = min(wider, kRayMaskSilhouetteReach) + 2.0;
+  }
   imageStore(reach, pixel, vec4(diameter));
   imageStore(strength, pixel, vec4(needsRays ? edge : 0.0));
 }
