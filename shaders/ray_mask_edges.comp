@@ -6,7 +6,8 @@
 // Only edges whose near side is out of focus need rays (partial occlusion), within that side's CoC
 // radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is. In the
 // far field only depth edges with a wide enough blur count: creases of a surface and small
-// background blurs are the post-process's.
+// background blurs are the post-process's, except while the view rests, when every edge whose blur
+// spans a pixel gets rays so that a still frame converges to the lens's image.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
