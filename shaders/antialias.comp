@@ -2,9 +2,9 @@
 // view rests every frame adds a sample at another sub-pixel position (a Halton sequence), and the
 // running average converges to a supersampled image (a box filter over the pixel, as the ray
 // tracers' jittered rays); after kMaxRasterSamples it goes on as a moving average. When the view
-// moves, the frame samples pixel centres and the history is reprojected by the motion vectors,
-// clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the surface changed)
-// and blended in, so that edges stay smooth in motion where the picture allows it.
+// moves, each frame samples another jittered position and the history is reprojected by the motion
+// vectors, clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the surface
+// changed) and blended in, so that edges stay smooth in motion where the picture allows it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

@@ -1,10 +1,11 @@
 // G-buffer (stage 1), resolve step (timed as gbuffer): for the triangle the raster found at each
 // pixel, the point the ray through the raster's sample position hits, shaded with the shared
 // shading function: sharp colour, its specular part, normal and linear depth, and the motion
-// vector. The same ray through the same triangle gives the ray tracer's point. A view's first
-// frame samples pixel centres and writes everything; its later frames (jittered samples for the
-// anti-aliasing) write only colour and specular, so that depth, normals and the CoC the DoF steps
-// derive from them hold still, and a zero motion (the view has not moved).
+// vector. The same ray through the same triangle gives the ray tracer's point. A frame after a cut
+// samples pixel centres, one in motion a jittered position (the anti-aliasing's reprojected
+// history gathers them); both write everything. A still view's later frames (jittered samples)
+// write only colour and specular, so that depth, normals and the CoC the DoF steps derive from
+// them hold still, and a zero motion (the view has not moved).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -20,12 +21,13 @@ layout(set = 1, binding = 3) uniform writeonly image2D outSpecular;  // rgba16f
 layout(set = 1, binding = 4) uniform writeonly image2D outNormalDepth;  // rgba32f
 layout(set = 1, binding = 5) uniform writeonly image2D outMotion;  // rg16f
 
-// Offset in pixels from this pixel to where `point` (w = 1) or direction (w = 0) was on screen
-// in the previous frame.
+// Offset in pixels from this pixel's centre to where the surface there was on screen in the
+// previous frame, from the point (w = 1) or direction (w = 0) the jittered sample found: the
+// sample lies rasterJitter from the centre, and so did its point before.
 vec2 motionTo(vec4 point, ivec2 pixel) {
   vec4 clip = frame.previousViewProj * point;
   vec2 previous = (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.imageSize);
-  return previous - (vec2(pixel) + 0.5);
+  return previous - (vec2(pixel) + 0.5 + frame.rasterJitter);
 }
 
 const uint kNoTriangle = 0xffffffffu;
@@ -41,7 +43,8 @@ void main() {
     imageStore(outSpecular, pixel, vec4(0.0));
     if (!firstSample) return;
     imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
-    imageStore(outMotion, pixel, vec4(motionTo(vec4(pinholeDirection(vec2(pixel) + 0.5), 0.0),
+    vec2 position = vec2(pixel) + 0.5 + frame.rasterJitter;
+    imageStore(outMotion, pixel, vec4(motionTo(vec4(pinholeDirection(position), 0.0),
                                                pixel), 0.0, 0.0));
     return;
   }

@@ -21,8 +21,8 @@ float halton(uint32_t i, uint32_t base) {
   return result;
 }
 
-// The raster's sample position for the n-th frame of a still view, from the pixel centre: the
-// centre first, then the (2, 3) Halton points, kMaxRasterSamples in all.
+// The raster's sample position for the n-th frame of a still view (or of a move), from the pixel
+// centre: the centre first, then the (2, 3) Halton points, kMaxRasterSamples in all.
 glm::vec2 rasterJitter(uint32_t sample) {
   uint32_t i = sample % gpu::kMaxRasterSamples;
   return i == 0 ? glm::vec2(0.0f) : glm::vec2(halton(i, 2), halton(i, 3)) - 0.5f;
@@ -141,8 +141,13 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
                 request.mode == RenderMode::Hybrid;
   bool stillRaster = raster_.valid && sameView(raster_.camera, request.camera) &&
                      request.settings.pixelJitter;
+  // In motion too each frame samples another position in the pixel (after a cut, the centre),
+  // which the reprojected history gathers, as TAA does.
+  bool moving = raster_.valid && !stillRaster && request.settings.pixelJitter;
   uniforms.rasterSample = stillRaster ? raster_.samples : 0;
-  uniforms.rasterJitter = rasterJitter(uniforms.rasterSample);
+  uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
+                                       : moving    ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
+                                                   : 0);
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
 
   // raytrace accumulates while the camera and lens stay the same and starts over when they
@@ -181,7 +186,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
 
   previousViewProj_ = uniforms.viewProj;
-  if (raster) raster_ = {true, request.camera, uniforms.rasterSample + 1};
+  if (raster)
+    raster_ = {true, request.camera, uniforms.rasterSample + 1, moving ? raster_.moves + 1 : 0};
   bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
   if (rayTraced) {
     accumulation_ = {true,

@@ -119,6 +119,7 @@ class FramePipeline {
     bool valid = false;
     Camera camera;
     uint32_t samples = 0;
+    uint32_t moves = 0;  // frames in motion since the view last rested or was cut
   } raster_;
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
