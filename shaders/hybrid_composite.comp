@@ -24,7 +24,7 @@ layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
 // Distance from the mask's edge (pixels) over which the far field fades to the post-process.
-const float kSeamFade = 4.0;
+const float kSeamFade = 1.0;
 // Rays accumulated at which the focus zone shows the traced colour rather than the raster's.
 const float kConvergedRays = 32.0;
 // Rays accumulated from which the near and far fields show the traced colour alone.
