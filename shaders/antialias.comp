@@ -1,10 +1,10 @@
 // G-buffer (stage 1), anti-aliasing step: the raster's colour accumulated over frames. While the
 // view rests every frame adds a sample at another sub-pixel position (a Halton sequence), and the
 // running average converges to a supersampled image (a box filter over the pixel, as the ray
-// tracers' jittered rays); after kMaxRasterSamples it goes on as a moving average. When the view
-// moves, each frame samples another jittered position and the history is reprojected by the motion
-// vectors, clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the surface
-// changed) and blended in, so that edges stay smooth in motion where the picture allows it.
+// tracers' jittered rays) of kMaxRasterSamples samples, after which the step no longer runs. When
+// the view moves, each frame samples another jittered position and the history is reprojected by
+// the motion vectors, clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the
+// surface changed) and blended in, so that edges stay smooth in motion where the picture allows it.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -44,7 +44,7 @@ void main() {
   vec3 result = current;
   if (frame.rasterSample > 0u) {
     vec3 previous = imageLoad(history, pixel).rgb;
-    float samples = float(min(frame.rasterSample, kMaxRasterSamples) + 1u);
+    float samples = float(frame.rasterSample + 1u);
     result = previous + (current - previous) / samples;
   } else if (push.historyValid != 0u) {
     vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;

@@ -16,7 +16,9 @@ int runBench(std::span<const std::string> args) {
   bool json = false;
   ArgParser parser("bench", "[options]",
                    "Measures BVH build time, G-buffer time and reference ray traversal speed\n"
-                   "(1 ray per pixel) and prints medians. Example:\n"
+                   "(1 ray per pixel), whole postprocess, hybrid and raytrace frames side by\n"
+                   "side, and lens-only (focus pull) frames on a still view whose G-buffer is\n"
+                   "reused, and prints medians. Example:\n"
                    "  hdof bench --scene assets/scenes/living-room/living-room.gltf "
                    "--camera closeup");
   addSceneOptions(parser, sceneOptions);
@@ -48,6 +50,7 @@ int runBench(std::span<const std::string> args) {
     wallMs.clear();
     for (uint32_t i = 0; i <= frames; ++i) {
       request.settings.frameIndex = i;
+      setup.pipeline.cut();  // every frame a view's first: the whole G-buffer runs
       FrameStats stats = setup.pipeline.render(request);
       double passMs = 0.0;
       for (const char* pass : passes) passMs += stats.passMsOf(pass);
@@ -120,6 +123,24 @@ int runBench(std::span<const std::string> args) {
   double fullRays = median(raysShot);
   double rayTraceFrameMs = frameMs(RenderMode::RayTrace);
 
+  // Lens-only frames: a focus pull (the focus moving back and forth by 5%) on a still view whose
+  // raster has all its samples, so that only the steps after the G-buffer run.
+  auto focusPullMs = [&](RenderMode mode) {
+    request.mode = mode;
+    setup.pipeline.resetHistory();
+    for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i) setup.pipeline.render(request);
+    float focus = request.lens.focusDistance;
+    std::vector<double> ms;
+    for (uint32_t i = 0; i < frames; ++i) {
+      request.lens.focusDistance = focus * (i % 2 == 0 ? 1.05f : 1.0f);
+      ms.push_back(setup.pipeline.render(request).gpuMs);
+    }
+    request.lens.focusDistance = focus;
+    return median(ms);
+  };
+  double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
+  double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
+
   request.settings.samplesPerPixel = 1;
   double referenceMs = measure(RenderMode::Reference, {"reference"});
   double rays = double(imageSize.width) * imageSize.height;
@@ -134,12 +155,14 @@ int runBench(std::span<const std::string> args) {
         "\"comparison_rays_per_pixel\":%u,\"postprocess_frame_ms\":%.3f,"
         "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f,"
         "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
-        "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f}\n",
+        "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
+        "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
-        maskCoverage, hybridRays, hybridPassesJson.c_str(), fullTraceMs, fullRays);
+        maskCoverage, hybridRays, hybridPassesJson.c_str(), fullTraceMs, fullRays,
+        postProcessFocusPullMs, hybridFocusPullMs);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -159,6 +182,10 @@ int runBench(std::span<const std::string> args) {
       "(hybrid/postprocess %.2fx, hybrid/raytrace %.2fx, mask coverage %.3f; medians of %u)\n",
       comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
       hybridFrameMs / postProcessFrameMs, hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
+  std::printf(
+      "focus_pull_frame_ms: postprocess=%.1f hybrid=%.1f (lens-only frames on a settled still "
+      "view; medians of %u)\n",
+      postProcessFocusPullMs, hybridFocusPullMs, frames);
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));

@@ -78,7 +78,7 @@ class SessionState {
  private:
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
   uint32_t framesOfAStillView() const;
-  static constexpr uint32_t kRasterRefineFrames = 16;
+  static constexpr uint32_t kRasterRefineFrames = gpu::kMaxRasterSamples;
 
   SessionDefaults defaults_;
   Viewport viewport_;

@@ -108,7 +108,9 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
     case RenderMode::Pinhole:
     case RenderMode::PostProcess:
     case RenderMode::Hybrid:
-      gbuffer_.record(steps, im.gbuffer, uniforms.viewProj, raster_.valid);
+      // A still view whose raster has all its samples keeps its G-buffer.
+      if (uniforms.rasterSample < gpu::kMaxRasterSamples)
+        gbuffer_.record(steps, im.gbuffer, uniforms.viewProj, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
         postProcess_.record(steps, im.gbuffer, im.dof);

@@ -53,9 +53,10 @@ HDOF_CONST uint kSequenceReference = 0;
 HDOF_CONST uint kSequenceRayTrace = 1;
 HDOF_CONST uint kSequenceHybrid = 2;
 
-// The raster's samples of a still view are averaged up to this many; later ones go on as a
-// moving average over as many (the jitter sequence repeats).
-HDOF_CONST uint kMaxRasterSamples = 64;
+// A still view's raster takes this many samples (the pixel centre, then the jitter sequence) and
+// averages them; then it stands: later frames of the view, lens changes among them, reuse its
+// G-buffer and run only what follows it.
+HDOF_CONST uint kMaxRasterSamples = 16;
 
 // Push constants of reference.comp (the reference and raytrace modes).
 struct RayTraceRays {
