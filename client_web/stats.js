@@ -33,7 +33,10 @@ export class StatsOverlay {
     const lastSecond = this.shownAt.filter((t) => t >= now - 1000).length;
     this.field('fps', `${lastSecond}`);
     this.field('mode', s.mode);
-    this.field('size', `${frame.width}×${frame.height}`);
+    // Below full size while the view moves: the daemon's interactive resolution.
+    const scale = s.render_scale ?? 1;
+    this.field('size', `${frame.width}×${frame.height}` +
+      (scale < 1 ? ` (moving: ${Math.round(scale * 100)}%)` : ''));
     this.field('gpu', ms(s.gpu_ms));
     // The costliest passes; the hybrid has a dozen more.
     const passes = Object.entries(s.passes_ms ?? {}).sort((a, b) => b[1] - a[1]);

@@ -45,12 +45,14 @@ WsUrl parseWsUrl(const std::string& url) {
 struct Figures {
   uint64_t frames = 0, bytes = 0, errors = 0;
   double fps = 0.0, bytesPerSecond = 0.0, p50 = 0.0, p95 = 0.0, p99 = 0.0;
+  double scaleP50 = 0.0, scaleMin = 0.0;  // frames' size over the viewport's
 };
 
 Figures figuresOf(const std::vector<net::LoadSessionResult>& results) {
   Figures f;
-  std::vector<double> latencies;
+  std::vector<double> latencies, scales;
   for (const net::LoadSessionResult& r : results) {
+    scales.insert(scales.end(), r.renderScales.begin(), r.renderScales.end());
     f.frames += r.frames;
     f.bytes += r.bytes;
     f.errors += r.errors + (r.failure.empty() ? 0 : 1);
@@ -61,6 +63,8 @@ Figures figuresOf(const std::vector<net::LoadSessionResult>& results) {
   f.p50 = net::percentile(latencies, 0.50);
   f.p95 = net::percentile(latencies, 0.95);
   f.p99 = net::percentile(latencies, 0.99);
+  f.scaleP50 = net::percentile(scales, 0.50);
+  f.scaleMin = net::percentile(scales, 0.0);
   return f;
 }
 
@@ -70,15 +74,16 @@ nlohmann::json figuresJson(const Figures& f) {
           {"latency_ms", {{"p50", f.p50}, {"p95", f.p95}, {"p99", f.p99}}},
           {"bytes", f.bytes},
           {"bytes_per_s", f.bytesPerSecond},
+          {"render_scale", {{"p50", f.scaleP50}, {"min", f.scaleMin}}},
           {"errors", f.errors}};
 }
 
 void printFigures(const std::string& label, const Figures& f) {
   std::printf(
       "%s frames=%llu fps=%.2f latency_p50_ms=%.1f latency_p95_ms=%.1f latency_p99_ms=%.1f "
-      "bytes_per_s=%.0f errors=%llu",
+      "bytes_per_s=%.0f render_scale_p50=%.3f render_scale_min=%.3f errors=%llu",
       label.c_str(), (unsigned long long)f.frames, f.fps, f.p50, f.p95, f.p99, f.bytesPerSecond,
-      (unsigned long long)f.errors);
+      f.scaleP50, f.scaleMin, (unsigned long long)f.errors);
 }
 
 }  // namespace
@@ -94,7 +99,9 @@ int runLoad(std::span<const std::string> args) {
       "render --camera-path, looped every --path-seconds; default: a sideways sway of the\n"
       "starting view) and acking every frame on receipt, as the browser client does. Prints per\n"
       "session and in total: frames/s, input-to-frame latency p50/p95/p99 (from sending a seq to\n"
-      "the first frame that carries it), bytes/s and errors. Exit 1 when a session failed.");
+      "the first frame that carries it), bytes/s, the frames' render scale (their size over the\n"
+      "viewport's: lower while moving to hold the daemon's target_fps) and errors. Exit 1 when a\n"
+      "session failed.");
   parser.option("--url", "ws://HOST:PORT[/PATH]", "the daemon or proxy (path default /session)",
                 &url);
   parser.option("--sessions", "N", "concurrent sessions (default 1)", &options.sessions);

@@ -47,6 +47,7 @@ net::SessionTemplate sessionTemplate(const ServeConfig& config, const LoadedScen
   defaults.stream = config.stream;
   defaults.accumulationFrames = config.accumulationFrames;
   defaults.stillAfterMs = config.stillAfterMs;
+  defaults.targetFps = config.targetFps;
   defaults.maxUnackedFrames = config.limits.maxUnackedFrames;
   defaults.camera = welcome.camera;
   defaults.lens = welcome.lens;

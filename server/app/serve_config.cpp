@@ -98,6 +98,8 @@ ServeConfig parseServeConfig(const std::string& text, const std::string& source,
       {"accumulation_frames", count(&c.accumulationFrames, 1, 100000)},
       {"still_after_ms",
        [&](const json& v, const std::string& k) { c.stillAfterMs = r.number(v, k, 0, 10000); }},
+      {"target_fps",
+       [&](const json& v, const std::string& k) { c.targetFps = r.number(v, k, 0, 240); }},
   };
   for (const auto& [key, value] : object.items()) {
     auto it = keys.find(key);

@@ -29,6 +29,7 @@ struct ServeConfig {
   net::StreamSettings stream;    // jpeg_quality_moving, jpeg_quality_still, max_fps, rays_per_pixel
   uint32_t accumulationFrames = 64;  // accumulation_frames
   double stillAfterMs = 150.0;       // still_after_ms
+  double targetFps = 20.0;           // target_fps (0: no interactive resolution)
 };
 
 // Reads a config object from JSON text over `base`; `source` names the text in messages.

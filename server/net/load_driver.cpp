@@ -187,6 +187,7 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
     }
     ++result.frames;
     result.bytes += message->binary.size();
+    result.renderScales.push_back(double(frame->header.width) / double(options.width));
     client.sendText(json{{"type", "ack"}, {"frame", frame->header.frame}}.dump());
     while (!pending.empty() && pending.front().first <= frame->header.seq) {
       if (pending.front().first == frame->header.seq)

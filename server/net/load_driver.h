@@ -38,6 +38,7 @@ struct LoadSessionResult {
   uint64_t frames = 0, bytes = 0, errors = 0, inputsSent = 0;
   double seconds = 0.0;             // from the welcome to the end
   std::vector<double> latenciesMs;  // input to frame, one per seq that came back in a frame
+  std::vector<double> renderScales;  // each frame's width over the viewport's
 
   double framesPerSecond() const { return seconds > 0.0 ? double(frames) / seconds : 0.0; }
   double bytesPerSecond() const { return seconds > 0.0 ? double(bytes) / seconds : 0.0; }

@@ -197,12 +197,13 @@ void RenderLoop::loop() {
     metrics_.inputsCoalesced(coalesced - session.coalescedReported);
     session.coalescedReported = coalesced;
     lock.unlock();
-    render(id, session, plan);  // the entry stays: only this thread erases entries
-    lock.lock();
+    std::optional<double> renderMs = render(id, session, plan);
+    lock.lock();  // the entry stays: only this thread erases entries
+    if (renderMs && !session.removed) session.state.frameRendered(*renderMs);
   }
 }
 
-void RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
+std::optional<double> RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
   try {
     if (fault_ == RenderFault::Stall) {
       std::unique_lock lock(mutex_);
@@ -224,7 +225,9 @@ void RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
     frame.image = session.pipeline->image();
     frame.renderedAt = Clock::now();
     metrics_.frameRendered(frame.stats.passMs);
+    double renderMs = frame.stats.wallMs;
     onFrame_(std::move(frame));
+    return renderMs;
   } catch (const std::exception& e) {
     bool lost = false;
     if (const auto* vulkan = dynamic_cast<const VulkanError*>(&e))
@@ -247,6 +250,7 @@ void RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
     }
     for (uint64_t failedId : failed) onFailure_(failedId, e.what());
   }
+  return std::nullopt;
 }
 
 }  // namespace hdof::net

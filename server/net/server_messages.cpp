@@ -147,7 +147,8 @@ std::string frameStatsJson(const FrameStatsMessage& stats) {
                   {"bytes", stats.bytes},
                   {"jpeg_quality", stats.jpegQuality},
                   {"accumulated_frames", stats.accumulatedFrames},
-                  {"focus_distance", stats.focusDistance}};
+                  {"focus_distance", stats.focusDistance},
+                  {"render_scale", stats.renderScale}};
   if (stats.inputToSendMs) message["input_to_send_ms"] = *stats.inputToSendMs;
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }

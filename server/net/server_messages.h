@@ -62,6 +62,7 @@ struct FrameStatsMessage {
   int jpegQuality = 0;
   uint32_t accumulatedFrames = 0;
   float focusDistance = 0.0f;
+  float renderScale = 1.0f;  // the frame's size over the viewport's
 };
 
 std::string frameStatsJson(const FrameStatsMessage& stats);

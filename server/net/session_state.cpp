@@ -50,6 +50,23 @@ uint32_t SessionState::framesOfAStillView() const {
   return std::min(defaults_.accumulationFrames, kRasterRefineFrames);
 }
 
+float SessionState::interactiveScale() const {
+  if (defaults_.targetFps <= 0.0 || msPerPixel_ <= 0.0) return 1.0f;
+  Viewport full = renderSize();
+  double budgetMs = 1000.0 / defaults_.targetFps;
+  double fullMs = msPerPixel_ * double(full.width) * double(full.height);
+  if (fullMs <= budgetMs) return 1.0f;
+  // Render time goes with the pixels: the square of the scale.
+  float scale = float(std::sqrt(budgetMs / fullMs));
+  return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
+}
+
+void SessionState::frameRendered(double renderMs) {
+  if (!lastFrameMoving_ || lastFramePixels_ == 0) return;
+  double perPixel = renderMs / double(lastFramePixels_);
+  msPerPixel_ = msPerPixel_ > 0.0 ? 0.7 * msPerPixel_ + 0.3 * perPixel : perPixel;
+}
+
 Viewport SessionState::renderSize() const {
   auto scaled = [&](uint32_t side) {
     return std::max<uint32_t>(16, uint32_t(std::lround(side * double(stream_.resolutionScale))));
@@ -153,6 +170,10 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   FramePlan plan;
   plan.frame = ++lastFrame_;
   Viewport size = renderSize();
+  float scale = moving ? interactiveScale() : 1.0f;
+  if (scale < 1.0f)
+    size = {std::max<uint32_t>(16, uint32_t(std::lround(size.width * double(scale)))),
+            std::max<uint32_t>(16, uint32_t(std::lround(size.height * double(scale))))};
   plan.request.mode = mode_;
   plan.request.camera = camera_;
   plan.request.lens = lens_;
@@ -166,10 +187,12 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   plan.inputReceived = newestInput_;
   plan.jpegQuality = moving ? stream_.jpegQualityMoving : stream_.jpegQualityStill;
   plan.accumulatedFrames = ++accumulated_;
+  plan.renderScale = float(size.width) / float(viewport_.width);
 
   inFlight_.push_back({plan.frame, false});
   lastFrameStart_ = now;
   lastFrameMoving_ = moving;
+  lastFramePixels_ = size.width * size.height;
   changed_ = resetHistory_ = cameraPending_ = lensPending_ = false;
   newestInput_.reset();
   return plan;

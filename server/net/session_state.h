@@ -4,7 +4,9 @@
 // once more at still JPEG quality when the view comes to rest; never while max_unacked_frames
 // frames wait for an ack, never while the connection cannot take more (sendBlocked), never faster
 // than max_fps. Otherwise the session idles. Only frames sent can be acked: a frame counts as
-// sent when the server has written it to the connection (frameSent).
+// sent when the server has written it to the connection (frameSent). While the view moves, frames
+// render at a lower scale when that is what holds target_fps (interactive resolution, from the
+// render times reported by frameRendered); a resting view renders at full size.
 #pragma once
 
 #include "net/protocol.h"
@@ -30,6 +32,7 @@ struct SessionDefaults {
   StreamSettings stream;
   uint32_t accumulationFrames = 64;  // raytrace, hybrid: frames of a still view, then idle
   double stillAfterMs = 150.0;       // no change for this long: the view rests
+  double targetFps = 20.0;           // frames/s a moving view is scaled down to hold (0: never)
   uint32_t maxUnackedFrames = 2;
   Camera camera;  // the starting view
   Lens lens;
@@ -44,6 +47,8 @@ struct FramePlan {
   std::optional<Clock::time_point> inputReceived;  // when the newest input it applies came in
   int jpegQuality = 90;
   uint32_t accumulatedFrames = 0;  // frames of this view so far, this one included
+  float renderScale = 1.0f;  // the frame's size over the viewport's (resolution_scale, and lower
+                             // while moving to hold target_fps)
 };
 
 // The distance to focus at for a viewport pixel (the depth of the surface under it), or nothing.
@@ -66,12 +71,16 @@ class SessionState {
   void frameDropped(uint32_t frame);
   // The server wrote this frame to the connection: acks up to it are valid now.
   void frameSent(uint32_t frame);
+  // How long the frame last started took to render (submit to finish): moving frames teach the
+  // interactive resolution what a pixel costs.
+  void frameRendered(double renderMs);
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
   void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
   bool sendBlocked() const { return sendBlocked_; }
 
   size_t framesInFlight() const { return inFlight_.size(); }
   uint64_t inputsCoalesced() const { return inputsCoalesced_; }
+  // A resting view's size: the viewport's times resolution_scale.
   Viewport renderSize() const;
   const Lens& lens() const { return lens_; }
 
@@ -79,6 +88,10 @@ class SessionState {
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
   uint32_t framesOfAStillView() const;
   static constexpr uint32_t kRasterRefineFrames = gpu::kMaxRasterSamples;
+  // The scale (of renderSize) a moving frame renders at: the largest step of kScaleStep, down
+  // to kMinScale, whose predicted render time fits 1 / target_fps.
+  float interactiveScale() const;
+  static constexpr float kScaleStep = 0.125f, kMinScale = 0.25f;
 
   SessionDefaults defaults_;
   Viewport viewport_;
@@ -104,6 +117,8 @@ class SessionState {
   Clock::time_point lastMotion_{};                // the last camera, lens or focus change
   Clock::time_point lastFrameStart_{};
   bool lastFrameMoving_ = false;
+  uint32_t lastFramePixels_ = 0;
+  double msPerPixel_ = 0.0;  // moving frames' render time per pixel (moving average); 0: unknown
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started
   uint32_t lastSent_ = 0;   // the newest frame written to the connection

@@ -649,6 +649,7 @@ int WsServer::writeFrame(lws* wsi, Connection& c) {
   stats.jpegQuality = frame.plan.jpegQuality;
   stats.accumulatedFrames = frame.plan.accumulatedFrames;
   stats.focusDistance = request.lens.focusDistance;
+  stats.renderScale = frame.plan.renderScale;
   std::vector<uint8_t> message = frameMessage(
       {frame.plan.frame, request.settings.width, request.settings.height, frame.plan.seq},
       frameStatsJson(stats), frame.jpeg.bytes, LWS_PRE);

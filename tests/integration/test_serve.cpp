@@ -166,6 +166,48 @@ TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
   EXPECT_FALSE(nextFrame(*client, 1500ms)) << "frames for a still, converged view";
 }
 
+// Interactive resolution: a moving view renders smaller when its frames take longer than
+// 1 / target_fps, says so in render_scale, and a resting view is full size again.
+TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
+  constexpr uint32_t width = 160, height = 96;
+  Daemon daemon(withConfig("hybrid", R"("target_fps": 240, "still_after_ms": 300,
+                                         "accumulation_frames": 1)"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, width, height);
+  std::optional<Frame> first = nextFrame(*client);
+  ASSERT_TRUE(first) << daemon.log();
+  ack(*client, first->header.frame);
+  EXPECT_EQ(first->header.width, width);
+  EXPECT_EQ(first->stats["render_scale"], 1.0);
+
+  // The first moving frame teaches the daemon what a pixel costs; the next ones use it.
+  client->sendText(cameraMessage(welcome, 1, 0.05f).dump());
+  std::optional<Frame> moving = frameApplying(*client, 1);
+  ASSERT_TRUE(moving) << daemon.log();
+  client->sendText(cameraMessage(welcome, 2, 0.10f).dump());
+  std::optional<Frame> scaled = frameApplying(*client, 2);
+  ASSERT_TRUE(scaled) << daemon.log();
+  double scale = scaled->stats["render_scale"].get<double>();
+  EXPECT_NEAR(double(scaled->header.width) / width, scale, 0.01);
+  EXPECT_GE(scale, 0.25);
+  std::printf("moving frame %.1f ms at full size, the next at render_scale %.3f (%ux%u)\n",
+              moving->stats["gpu_ms"].get<double>(), scale, scaled->header.width,
+              scaled->header.height);
+  // 240 frames/s leave 4.2 ms a frame: a moving frame that took longer must have been scaled.
+  if (moving->stats["gpu_ms"].get<double>() > 1000.0 / 240.0)
+    EXPECT_LT(scale, 1.0) << "the moving frame took " << moving->stats["gpu_ms"] << " ms";
+
+  std::optional<Frame> still;
+  for (int i = 0; i < 10; ++i) {  // moving frames still on their way, then the resting one
+    still = nextFrame(*client);
+    ASSERT_TRUE(still) << daemon.log();
+    ack(*client, still->header.frame);
+    if (still->stats["render_scale"] == 1.0) break;
+  }
+  EXPECT_EQ(still->header.width, width) << "full size at rest";
+  EXPECT_EQ(still->header.height, height);
+}
+
 TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
   Daemon daemon(withConfig("postprocess", R"("max_rays_per_pixel": 8)"));
   auto client = connectSession(daemon.port());

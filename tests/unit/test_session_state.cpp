@@ -201,6 +201,52 @@ TEST(SessionState, FocusAtSetsTheFocusAndPullsSmoothly) {
   EXPECT_EQ(s.startFrame(kStart + 2s, pick).request.lens.focusDistance, 17.0f);
 }
 
+// While the camera moves, frames render at the scale whose predicted time (from the moving
+// frames' render times, per pixel) fits 1 / target_fps, in steps of 1/8 down to 1/4; a resting
+// view renders at full size again.
+TEST(SessionState, AMovingViewRendersAtTheScaleThatHoldsTargetFps) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  s.apply(camera(1, 0.0f), kStart);
+  FramePlan first = s.startFrame(kStart, noFocus);
+  EXPECT_EQ(first.request.settings.width, 200u) << "no render time known yet";
+  EXPECT_EQ(first.renderScale, 1.0f);
+  s.frameRendered(200.0);  // 0.01 ms a pixel: the full size would take 200 ms
+  sentAndAcked(s, 1, kStart);
+
+  s.apply(camera(2, 1.0f), kStart + 10ms);
+  FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
+  EXPECT_EQ(moving.request.settings.width, 100u) << "half the side: a quarter of the time";
+  EXPECT_EQ(moving.request.settings.height, 50u);
+  EXPECT_EQ(moving.renderScale, 0.5f);
+  s.frameRendered(10000.0);  // much slower now
+  sentAndAcked(s, 2, kStart);
+
+  s.apply(camera(3, 2.0f), kStart + 20ms);
+  FramePlan slower = s.startFrame(kStart + 20ms, noFocus);
+  EXPECT_EQ(slower.renderScale, 0.25f) << "never below a quarter";
+  EXPECT_EQ(slower.request.settings.width, 50u);
+  sentAndAcked(s, 3, kStart);
+
+  ASSERT_TRUE(s.nextFrameDue()) << "the view comes to rest";
+  FramePlan resting = s.startFrame(kStart + 1s, noFocus);
+  EXPECT_EQ(resting.request.settings.width, 200u) << "full size when still";
+  EXPECT_EQ(resting.renderScale, 1.0f);
+}
+
+TEST(SessionState, TargetFpsZeroNeverScales) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 0.0;
+  SessionState s(d, {200, 100});
+  s.apply(camera(1, 0.0f), kStart);
+  s.startFrame(kStart, noFocus);
+  s.frameRendered(10000.0);
+  sentAndAcked(s, 1, kStart);
+  s.apply(camera(2, 1.0f), kStart + 10ms);
+  EXPECT_EQ(s.startFrame(kStart + 10ms, noFocus).request.settings.width, 200u);
+}
+
 TEST(SessionState, ResolutionScaleAndModeChange) {
   SessionState s(defaults(RenderMode::PostProcess), {200, 100});
   SettingsMessage settings;
