@@ -68,6 +68,7 @@ function modeMessage(s, pane) {
 // Camera and lens changes coalesce to one message per animation frame.
 const queued = new Set();
 function queue(kind) {
+  if (kind === 'camera') $('#cameras').value = ''; // the view is no longer a scene camera's
   if (queued.size === 0) requestAnimationFrame(flush);
   queued.add(kind);
 }
@@ -220,11 +221,25 @@ for (const pane of panes) {
     },
   });
 }
+// A scene camera stays shown in the picker until the view moves. Its own focus distance where
+// the scene has one, else (glTF cameras carry none), as the CLI does, the surface at the image
+// centre.
 $('#cameras').addEventListener('change', (event) => {
-  const { name, ...camera } = welcome.scene.cameras[event.target.value];
+  if (event.target.value === '') return;
+  const { name, focus_distance: focus, ...camera } = welcome.scene.cameras[event.target.value];
   state.camera = camera;
-  queue('camera');
-  event.target.value = '';
+  sendInput((s) => protocol.camera(s, state.camera));
+  if (state.lens && focus) {
+    state.lens = { ...state.lens, focus_distance: focus };
+    lensPanel.set(state.lens);
+    lensSeq = sendInput((s) => protocol.lens(s, state.lens));
+  } else if (state.lens) {
+    lensSeq = sendInput((s, target) => {
+      const { x, y } = target.viewportPixel({ u: 0.5, v: 0.5 });
+      return protocol.focusAt(s, x, y, 0);
+    });
+  }
+  writeUrl(state);
 });
 $('#home').addEventListener('click', () => {
   state.camera = strip(welcome.camera);

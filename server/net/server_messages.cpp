@@ -64,6 +64,7 @@ std::string welcomeMessage(const Welcome& welcome) {
     camera.erase("type");
     camera.erase("seq");
     camera["name"] = c.name;
+    if (c.focusDistance) camera["focus_distance"] = *c.focusDistance;
     cameras.push_back(camera);
   }
   LensMessage lens = lensMessageOf(welcome.lens);

@@ -1,7 +1,8 @@
 // The browser client in headless Chromium against a daemon this test starts on a free port:
-// the page connects, a frame appears, a drag changes the picture, a click focuses, the view
-// selector lists the daemon's debug views and shows one with the hybrid, the mode selector
-// changes the mode the frames report, a snapshot downloads, and screenshots are saved.
+// the page connects, a frame appears, a drag changes the picture, a click focuses, a scene camera
+// is picked with its focus, the view selector lists the daemon's debug views and shows one with
+// the hybrid, the mode selector changes the mode the frames report, a snapshot downloads, and
+// screenshots are saved.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
 
@@ -126,6 +127,17 @@ async function run(page, url) {
   }
   assert.notEqual(focusAfter, focusBefore, 'a click focuses on the surface under the cursor');
   step(`click to focus: ${focusBefore} -> ${focusAfter}`);
+
+  // Picking a scene camera shows it in the picker and applies its focus (builtin:dof's camera
+  // suggests 4 m).
+  await page.selectOption('#cameras', '0');
+  await page.waitForFunction(
+    () => document.querySelector('#focus-distance').textContent === '4.00 m', null,
+    { timeout: TIMEOUT_MS });
+  await stillFrame(page);
+  assert.equal(await page.$eval('#cameras', (select) => select.value), '0',
+    'the picked camera stays shown');
+  step('a scene camera picked: shown in the picker, its focus 4.00 m applied');
 
   // The view selector is the welcome's views (asked here of a session of its own), and it is
   // only for the hybrid.

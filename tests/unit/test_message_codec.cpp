@@ -203,10 +203,22 @@ TEST(ServerMessages, WelcomeAndErrorFollowTheSchemas) {
   welcome.bounds.grow(glm::vec3(-1.0f));
   welcome.bounds.grow(glm::vec3(1.0f));
   welcome.cameras.push_back(SceneCamera{"main"});
+  SceneCamera suggested{"suggested"};
+  suggested.focusDistance = 2.5f;
+  welcome.cameras.push_back(suggested);
   nlohmann::json w = nlohmann::json::parse(welcomeMessage(welcome));
   EXPECT_EQ(w["type"], "welcome");
   EXPECT_EQ(w["limits"]["max_unacked_frames"], 2);
   EXPECT_EQ(w["scene"]["cameras"][0]["name"], "main");
+  EXPECT_FALSE(w["scene"]["cameras"][0].contains("focus_distance")) << "none known";
+  EXPECT_EQ(w["scene"]["cameras"][1]["focus_distance"], 2.5);
+  // A scene camera less its name and focus is a valid camera message.
+  nlohmann::json sceneCamera = w["scene"]["cameras"][1];
+  sceneCamera.erase("name");
+  sceneCamera.erase("focus_distance");
+  sceneCamera["type"] = "camera";
+  sceneCamera["seq"] = 1;
+  EXPECT_TRUE(parse(sceneCamera.dump()).ok()) << sceneCamera.dump();
   EXPECT_EQ(w["camera"]["type"], "camera");
   EXPECT_EQ(w["views"], nlohmann::json(debugViewList()));
   EXPECT_EQ(w["views"][0], "final");
