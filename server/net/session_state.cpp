@@ -14,6 +14,14 @@ Clock::duration msDuration(double ms) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(ms));
 }
 
+// A size times a scale, each side at least 16 pixels.
+Viewport scaledSize(Viewport size, double scale) {
+  auto side = [&](uint32_t pixels) {
+    return std::max<uint32_t>(16, uint32_t(std::lround(pixels * scale)));
+  };
+  return {side(size.width), side(size.height)};
+}
+
 }  // namespace
 
 Camera cameraOf(const CameraMessage& message, const Camera& base) {
@@ -68,11 +76,8 @@ void SessionState::frameRendered(double renderMs) {
 }
 
 Viewport SessionState::renderSize() const {
-  auto scaled = [&](uint32_t side) {
-    return std::max<uint32_t>(16, uint32_t(std::lround(side * double(stream_.resolutionScale))));
-  };
-  return {std::min(scaled(viewport_.width), viewport_.width),
-          std::min(scaled(viewport_.height), viewport_.height)};
+  Viewport size = scaledSize(viewport_, stream_.resolutionScale);
+  return {std::min(size.width, viewport_.width), std::min(size.height, viewport_.height)};
 }
 
 std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
@@ -171,9 +176,7 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   plan.frame = ++lastFrame_;
   Viewport size = renderSize();
   float scale = moving ? interactiveScale() : 1.0f;
-  if (scale < 1.0f)
-    size = {std::max<uint32_t>(16, uint32_t(std::lround(size.width * double(scale)))),
-            std::max<uint32_t>(16, uint32_t(std::lround(size.height * double(scale))))};
+  if (scale < 1.0f) size = scaledSize(size, scale);
   plan.request.mode = mode_;
   plan.request.camera = camera_;
   plan.request.lens = lens_;
