@@ -148,7 +148,9 @@ TEST(Hardening, ACountingForgerIsPausedOnceItLeavesAPingUnanswered) {
   double rendered = metricValue(daemon.port(), "hdof_frames_rendered_total");
   EXPECT_GT(rendered, 0.0);
   for (int i = 0; i < 100; ++i) attack();  // a second more of it
-  EXPECT_EQ(metricValue(daemon.port(), "hdof_frames_rendered_total"), rendered)
+  // The render thread may have been rendering one frame of it when the pause came: that one
+  // finishes, no other starts.
+  EXPECT_LE(metricValue(daemon.port(), "hdof_frames_rendered_total"), rendered + 1.0)
       << "no frames while it does not answer";
   EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions"), 1.0) << "still connected";
   EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions_timed_out_total"), 0.0);
