@@ -15,6 +15,20 @@
 
 namespace hdof::test {
 
+// Built with AddressSanitizer (the sanitizer tier): its allocator keeps freed memory, so RSS
+// bounds do not hold there.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 using namespace std::chrono_literals;
 
 // Generous: the machine is slow and shared; nothing here is a timing assert.

@@ -19,18 +19,6 @@ namespace {
 
 constexpr uint32_t kWidth = 96, kHeight = 54;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-
 std::filesystem::path scratchDir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() /
              ("hdof-hardening-" + std::to_string(getpid()) + "-" + name);
