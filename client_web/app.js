@@ -3,6 +3,7 @@
 
 import { CameraControls, dollyRange } from './camera.js';
 import { describeLens, LensPanel } from './lens.js';
+import { fieldOfViewDeg, focalLengthForVerticalFov, sensorOf } from './optics.js';
 import { Pane } from './pane.js';
 import * as protocol from './protocol.js';
 import { StatsOverlay } from './stats.js';
@@ -11,8 +12,9 @@ import { readUrlState, urlWriter } from './url-state.js';
 const $ = (selector) => document.querySelector(selector);
 const fromUrl = readUrlState();
 const state = {
-  camera: null, // {position, target, up, fov_y_deg}
-  lens: null, // {focal_length_mm, f_number, focus_distance, blades, blade_rotation_deg}
+  camera: null, // {position, target, up}; the field of view is the lens's
+  lens: null, // {focal_length_mm, f_number, focus_distance, blades, blade_rotation_deg,
+  //             sensor_width_mm, sensor_height_mm}
   mode: fromUrl.mode ?? null, // null: the daemon's default, learnt from the first frame
   view: fromUrl.view ?? null, // a debug view of the welcome's; null: the finished image
   compare: fromUrl.compare ?? null, // the split view's second mode, null when not split
@@ -29,6 +31,12 @@ const inputSentAt = new Map(); // seq -> performance.now(), for the input-to-fra
 const writeUrl = urlWriter();
 // The welcome's camera and lens are messages; the state keeps their fields.
 const strip = ({ type, seq: _, ...rest }) => rest;
+// The main pane's aspect, which with the lens makes the field of view.
+const aspect = () => {
+  const { width, height } = primary.viewport();
+  return width / height;
+};
+const FOCUS_ZONE_VIEW = 'focus_zone';
 
 const stats = new StatsOverlay($('#stats'));
 const lensPanel = new LensPanel($('#lens'), (lens) => {
@@ -141,6 +149,7 @@ function shown(frame, pane) {
     writeUrl(state);
   }
   $('#focus-distance').textContent = describeLens(state.lens).focus_distance;
+  if (frame.stats.fov_y_deg) lensPanel.showFieldOfView({ x: frame.stats.fov_x_deg, y: frame.stats.fov_y_deg });
 }
 
 function showStatus({ state: connectionState, message }, pane) {
@@ -151,6 +160,9 @@ function showStatus({ state: connectionState, message }, pane) {
 
 function updateViewControl() {
   $('#view').disabled = state.mode !== protocol.DEBUG_VIEW_MODE;
+  const zone = $('#focus-zone');
+  zone.disabled = $('#view').disabled || !welcome?.views?.includes(FOCUS_ZONE_VIEW);
+  zone.checked = state.view === FOCUS_ZONE_VIEW;
 }
 
 function setSplit(on) {
@@ -208,7 +220,11 @@ async function fullQualityFrame(pane) {
 // Controls.
 for (const pane of panes) {
   new CameraControls(pane.canvas, {
-    getView: () => state.camera,
+    // Panning needs the vertical field of view: the lens's at the main pane's aspect.
+    getView: () => state.camera && {
+      ...state.camera,
+      fov_y_deg: fieldOfViewDeg(state.lens.focal_length_mm, sensorOf(state.lens), aspect()).y,
+    },
     setView: (view) => { state.camera = view; queue('camera'); },
     getRange: () => dollyRange(welcome?.scene.bounds),
     onClick: (event) => {
@@ -221,19 +237,22 @@ for (const pane of panes) {
     },
   });
 }
-// A scene camera stays shown in the picker until the view moves. Its own focus distance where
-// the scene has one, else (glTF cameras carry none), as the CLI does, the surface at the image
-// centre.
+// A scene camera stays shown in the picker until the view moves. It brings its framing: the focal
+// length that gives its field of view on the current sensor. Its own focus distance where the
+// scene has one, else (glTF cameras carry none), as the CLI does, the surface at the image centre.
 $('#cameras').addEventListener('change', (event) => {
   if (event.target.value === '') return;
-  const { name, focus_distance: focus, ...camera } = welcome.scene.cameras[event.target.value];
+  const { name, focus_distance: focus, fov_y_deg: fov, ...camera } = welcome.scene.cameras[event.target.value];
   state.camera = camera;
   sendInput((s) => protocol.camera(s, state.camera));
-  if (state.lens && focus) {
-    state.lens = { ...state.lens, focus_distance: focus };
-    lensPanel.set(state.lens);
-    lensSeq = sendInput((s) => protocol.lens(s, state.lens));
-  } else if (state.lens) {
+  state.lens = {
+    ...state.lens,
+    focal_length_mm: focalLengthForVerticalFov(fov, sensorOf(state.lens), aspect()),
+    ...(focus ? { focus_distance: focus } : {}),
+  };
+  lensPanel.set(state.lens);
+  lensSeq = sendInput((s) => protocol.lens(s, state.lens));
+  if (!focus) {
     lensSeq = sendInput((s, target) => {
       const { x, y } = target.viewportPixel({ u: 0.5, v: 0.5 });
       return protocol.focusAt(s, x, y, 0);
@@ -251,11 +270,16 @@ $('#mode').addEventListener('change', (event) => {
   for (const pane of panes) if (pane.active) pane.send(modeMessage(++seq, pane));
   writeUrl(state);
 });
-$('#view').addEventListener('change', (event) => {
-  state.view = event.target.value === welcome.views?.[0] ? null : event.target.value;
+function setView(view) {
+  state.view = view;
+  $('#view').value = view ?? welcome.views[0];
+  updateViewControl();
   primary.send(modeMessage(++seq, primary));
   writeUrl(state);
-});
+}
+$('#view').addEventListener('change', (event) =>
+  setView(event.target.value === welcome.views?.[0] ? null : event.target.value));
+$('#focus-zone').addEventListener('change', (event) => setView(event.target.checked ? FOCUS_ZONE_VIEW : null));
 $('#split').addEventListener('change', (event) => setSplit(event.target.checked));
 $('#compare-mode').addEventListener('change', (event) => {
   state.compare = event.target.value;

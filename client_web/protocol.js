@@ -1,5 +1,7 @@
 // The hdof.v1 wire protocol (protocol/README.md): client messages and the binary frame parser.
 
+import { FULL_FRAME } from './optics.js';
+
 export const SUBPROTOCOL = 'hdof.v1';
 export const PROTOCOL_VERSION = 1;
 export const FRAME_MAGIC = 0x464f4448; // "HDOF"
@@ -32,7 +34,7 @@ export function hello(viewport, token) {
 export function camera(seq, view) {
   return {
     type: 'camera', seq,
-    position: view.position, target: view.target, up: view.up, fov_y_deg: view.fov_y_deg,
+    position: view.position, target: view.target, up: view.up,
   };
 }
 
@@ -42,6 +44,8 @@ export function lens(seq, l) {
     focal_length_mm: l.focal_length_mm, f_number: l.f_number,
     focus_distance: l.focus_distance, blades: l.blades,
     blade_rotation_deg: l.blade_rotation_deg ?? 0,
+    sensor_width_mm: l.sensor_width_mm ?? FULL_FRAME.width,
+    sensor_height_mm: l.sensor_height_mm ?? FULL_FRAME.height,
   };
 }
 

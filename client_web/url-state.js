@@ -1,5 +1,9 @@
 // The view in the URL's hash, so that a link shares it:
-//   #camera=px,py,pz,tx,ty,tz,fov&lens=focal_mm,f_number,focus_m,blades&mode=M&view=V&compare=M
+//   #camera=px,py,pz,tx,ty,tz&lens=focal_mm,f_number,focus_m,blades,sensor_w_mm,sensor_h_mm
+//   &mode=M&view=V&compare=M
+// The field of view follows from the lens (focal length and sensor) and the pane's aspect.
+
+import { FULL_FRAME, sensorOf } from './optics.js';
 
 const round = (v) => Number(v.toPrecision(5));
 const numbers = (text, count) => {
@@ -10,10 +14,19 @@ const numbers = (text, count) => {
 export function readUrlState(hash = location.hash) {
   const params = new URLSearchParams(hash.replace(/^#/, ''));
   const state = {};
-  const c = numbers(params.get('camera'), 7);
-  if (c) state.camera = { position: c.slice(0, 3), target: c.slice(3, 6), up: [0, 1, 0], fov_y_deg: c[6] };
-  const l = numbers(params.get('lens'), 4);
-  if (l) state.lens = { focal_length_mm: l[0], f_number: l[1], focus_distance: l[2], blades: l[3] };
+  // Links made before the lens set the field of view carry a seventh number, the field of view:
+  // their position and target still hold.
+  const c = numbers(params.get('camera'), 6) ?? numbers(params.get('camera'), 7);
+  if (c) state.camera = { position: c.slice(0, 3), target: c.slice(3, 6), up: [0, 1, 0] };
+  // Without the sensor (older links): full frame.
+  const l = numbers(params.get('lens'), 6) ?? numbers(params.get('lens'), 4);
+  if (l) {
+    const [width, height] = l.length === 6 ? l.slice(4) : [FULL_FRAME.width, FULL_FRAME.height];
+    state.lens = {
+      focal_length_mm: l[0], f_number: l[1], focus_distance: l[2], blades: l[3],
+      sensor_width_mm: width, sensor_height_mm: height,
+    };
+  }
   for (const key of ['mode', 'view', 'compare']) if (params.get(key)) state[key] = params.get(key);
   return state;
 }
@@ -21,10 +34,12 @@ export function readUrlState(hash = location.hash) {
 export function urlHash({ camera, lens, mode, view, compare }) {
   const params = new URLSearchParams();
   if (camera)
-    params.set('camera', [...camera.position, ...camera.target, camera.fov_y_deg].map(round).join(','));
-  if (lens)
-    params.set('lens', [lens.focal_length_mm, lens.f_number, lens.focus_distance, lens.blades ?? 0]
-      .map(round).join(','));
+    params.set('camera', [...camera.position, ...camera.target].map(round).join(','));
+  if (lens) {
+    const sensor = sensorOf(lens);
+    params.set('lens', [lens.focal_length_mm, lens.f_number, lens.focus_distance, lens.blades ?? 0,
+      sensor.width, sensor.height].map(round).join(','));
+  }
   if (mode) params.set('mode', mode);
   if (view) params.set('view', view); // null: the finished image
   if (compare) params.set('compare', compare);

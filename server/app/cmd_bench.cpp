@@ -168,6 +168,7 @@ int runBench(std::span<const std::string> args) {
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
   std::printf("scene=%s triangles=%zu size=%ux%u\n", loaded.scene.name.c_str(),
               loaded.scene.triangleCount(), imageSize.width, imageSize.height);
+  std::printf("lens: %s\n", lensSummary(setup.request.lens, imageSize).c_str());
   std::printf("bvh_build_ms=%.1f bvh_nodes=%zu bvh_depth=%u (median of 3)\n", median(buildMs),
               loaded.bvh.nodes.size(), loaded.bvh.depth);
   std::printf("gbuffer_ms=%.2f visibility_ms=%.2f resolve_ms=%.2f (medians of %u frames)\n",

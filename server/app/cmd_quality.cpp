@@ -284,7 +284,7 @@ int runQuality(std::span<const std::string> args) {
   request.mode = RenderMode::Pinhole;
   pipeline.render(request);
   CocParameters coc =
-      cocParameters(request.camera, request.lens, imageSize.width, imageSize.height);
+      cocParameters(request.lens, imageSize.width, imageSize.height);
   QualityRegions regions = qualityRegions(readGBufferGeometry(setup.context, pipeline),
                                           imageSize.width, imageSize.height, coc);
   writeImage(outPath("occlusion-mask.png"), regions.occlusion);
@@ -357,6 +357,9 @@ int runQuality(std::span<const std::string> args) {
     out["focus_distance"] = request.lens.focusDistance;
     out["f_number"] = request.lens.fNumber;
     out["focal_length_mm"] = request.lens.focalLengthMm;
+    out["sensor_mm"] = {request.lens.sensor.widthMm, request.lens.sensor.heightMm};
+    glm::vec2 fov = fieldOfViewDeg(request.lens, imageSize.width, imageSize.height);
+    out["fov_deg"] = {fov.x, fov.y};
     for (const Row& r : rows) {
       nlohmann::json row = {
           {"mode", r.label}, {"rays_per_pixel", r.raysPerPixel}, {"frames", r.frames}};
@@ -380,6 +383,7 @@ int runQuality(std::span<const std::string> args) {
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
+  std::printf("lens: %s\n", lensSummary(request.lens, imageSize).c_str());
   std::printf("occlusion region: %llu pixels (%s)\n", (unsigned long long)regions.occlusionPixels,
               outPath("occlusion-mask.png").c_str());
   std::printf("edge band: %llu pixels (%s)\n", (unsigned long long)regions.edgePixels,

@@ -124,10 +124,9 @@ int runRender(std::span<const std::string> args) {
   std::string written = isPattern(out) ? frameFileName(out, frames - 1) : out;
   if (!isPattern(out)) writeFrame(out, pipeline.image());
   if (sceneOptions.verbose)
-    std::fprintf(stderr,
-                 "%s %ux%u, %u frame(s): %.1f ms on the GPU, focus %.2f m, f/%.3g at %.0f mm\n",
+    std::fprintf(stderr, "%s %ux%u, %u frame(s): %.1f ms on the GPU, lens: %s\n",
                  modeName(request.mode), imageSize.width, imageSize.height, frames, gpuMs,
-                 request.lens.focusDistance, request.lens.fNumber, request.lens.focalLengthMm);
+                 lensSummary(request.lens, imageSize).c_str());
   std::printf("%s\n", std::filesystem::absolute(written).c_str());
   return 0;
 }

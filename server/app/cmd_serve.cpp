@@ -41,7 +41,9 @@ net::SessionTemplate sessionTemplate(const ServeConfig& config, const LoadedScen
   welcome.bounds = loaded.scene.bounds;
   welcome.cameras = loaded.scene.cameras;
   welcome.camera = resolveCamera(loaded.scene, "");
-  welcome.lens = resolveLens(LensOptions{}, loaded, "");
+  // Each session's focal length follows its viewport's aspect (WsServer); this is the largest's.
+  welcome.lens = resolveLens(LensOptions{}, loaded, "", {config.limits.maxWidth, config.limits.maxHeight});
+  session.startCamera = loaded.scene.cameras.front();
   net::SessionDefaults& defaults = session.defaults;
   defaults.mode = *net::parseStreamingMode(config.mode);
   defaults.stream = config.stream;

@@ -67,7 +67,7 @@ void measureQualityInMotion(RenderSetup& setup, const CameraPath& path,
       pipeline.render(request);
       QualityRegions regions =
           qualityRegions(readGBufferGeometry(setup.context, pipeline), width, height,
-                         cocParameters(request.camera, request.lens, width, height));
+                         cocParameters(request.lens, width, height));
       uint64_t done = uint64_t(i - 1) * options.referenceRays;
       pipeline.renderReference(request, options.referenceRays,
                                [&](uint32_t rays) { progress.update(done + rays); });

@@ -21,8 +21,15 @@ void addSceneOptions(ArgParser& parser, SceneOptions& options) {
 }
 
 void addLensOptions(ArgParser& parser, LensOptions& options) {
-  parser.option("--focal-length", "MM", "lens focal length in millimetres (default 50)",
+  parser.option("--focal-length", "MM",
+                "lens focal length in millimetres; with the sensor it sets the field of view "
+                "(default: the one that keeps the scene camera's field of view)",
                 &options.focalLengthMm);
+  parser.option("--sensor", "WxH|NAME",
+                "sensor size in millimetres, or " + sensorPresetNames() +
+                    " (default full-frame, 36x24); the image is the largest rectangle of its "
+                    "aspect on the sensor",
+                &options.sensor);
   parser.option("--f-number", "N",
                 "aperture f-number, at least 0.5 (default 2.8; 1e6 is a pinhole)",
                 &options.fNumber);
@@ -55,25 +62,61 @@ Camera resolveCamera(const Scene& scene, const std::string& name) {
                    "' (its cameras: " + names + ")");
 }
 
-Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera) {
+Sensor parseSensor(const std::string& text) {
+  if (auto preset = sensorPreset(text)) return *preset;
+  std::string problem = "--sensor must be WxH in millimetres (e.g. 36x24), each side " +
+                        std::to_string(int(kMinSensorMm)) + " to " +
+                        std::to_string(int(kMaxSensorMm)) + ", or one of " + sensorPresetNames() +
+                        " (got '" + text + "')";
+  size_t x = text.find('x');
+  if (x == std::string::npos) throw UsageError(problem);
+  Sensor sensor;
+  try {
+    sensor.widthMm = float(parseNumber(text.substr(0, x), "--sensor"));
+    sensor.heightMm = float(parseNumber(text.substr(x + 1), "--sensor"));
+  } catch (const UsageError&) {
+    throw UsageError(problem);
+  }
+  for (float side : {sensor.widthMm, sensor.heightMm})
+    if (!(side >= kMinSensorMm && side <= kMaxSensorMm)) throw UsageError(problem);
+  return sensor;
+}
+
+std::string lensSummary(const Lens& lens, Size2 size) {
+  glm::vec2 fov = fieldOfViewDeg(lens, size.width, size.height);
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "focal_length_mm=%.1f f_number=%.3g focus_distance=%.3f sensor_mm=%.4gx%.4g "
+                "fov_deg=%.1fx%.1f",
+                lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
+                lens.sensor.heightMm, fov.x, fov.y);
+  return text;
+}
+
+Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera,
+                 Size2 size) {
   if (!(options.fNumber >= 0.5f))
     throw UsageError("--f-number must be at least 0.5 (got " + std::to_string(options.fNumber) +
                      ")");
-  if (!(options.focalLengthMm > 0.0f && options.focalLengthMm <= 5000.0f))
+  if (!(options.focalLengthMm >= 0.0f && options.focalLengthMm <= 5000.0f))
     throw UsageError("--focal-length must be more than 0 and at most 5000 mm");
   if (options.focusDistance < 0.0f || options.focusDistance > 1e5f)
     throw UsageError("--focus-distance must be more than 0 and at most 100000 m");
   if (options.blades == 1 || options.blades == 2 || options.blades > 16)
     throw UsageError("--blades must be 0 (circle) or 3 to 16");
   Lens lens;
-  lens.focalLengthMm = options.focalLengthMm;
+  lens.sensor = parseSensor(options.sensor);
   lens.fNumber = options.fNumber;
   lens.blades = options.blades;
   lens.focusDistance = options.focusDistance;
+  const SceneCamera* sceneCamera =
+      camera.empty() ? &loaded.scene.cameras.front() : loaded.scene.findCamera(camera);
+  if (!sceneCamera) resolveCamera(loaded.scene, camera);  // throws, naming the scene's cameras
+  lens.focalLengthMm = options.focalLengthMm;
+  if (lens.focalLengthMm == 0.0f)
+    lens = withSceneCameraFov(lens, *sceneCamera, size.width, size.height);
   if (lens.focusDistance == 0.0f) {
-    const SceneCamera* sceneCamera =
-        camera.empty() ? &loaded.scene.cameras.front() : loaded.scene.findCamera(camera);
-    if (sceneCamera && sceneCamera->focusDistance) {
+    if (sceneCamera->focusDistance) {
       lens.focusDistance = *sceneCamera->focusDistance;
     } else {
       Camera c = resolveCamera(loaded.scene, camera);
@@ -96,7 +139,7 @@ RenderSetup::RenderSetup(const SceneOptions& sceneOptions, const LensOptions& le
     : loaded(loadSceneWithBvh(sceneOptions)),
       request{RenderMode::Pinhole,
               resolveCamera(loaded.scene, sceneOptions.camera),
-              resolveLens(lensOptions, loaded, sceneOptions.camera),
+              resolveLens(lensOptions, loaded, sceneOptions.camera, size),
               {size.width, size.height}},
       context(contextOptions(sceneOptions)),
       gpuScene(context, loaded.scene, loaded.bvh),

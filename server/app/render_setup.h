@@ -23,7 +23,8 @@ struct SceneOptions {
 };
 
 struct LensOptions {
-  float focalLengthMm = 50.0f;
+  float focalLengthMm = 0.0f;  // 0: the one that keeps the scene camera's field of view
+  std::string sensor = "full-frame";
   float fNumber = 2.8f;
   float focusDistance = 0.0f;  // 0: the camera's suggestion, else autofocus at the image centre
   uint32_t blades = 0;
@@ -41,9 +42,17 @@ struct LoadedScene {
 LoadedScene loadSceneWithBvh(const SceneOptions& options);
 // The named camera (or the first); throws UsageError listing the scene's cameras.
 Camera resolveCamera(const Scene& scene, const std::string& name);
-// The lens from the options; focus distance from the options, the scene camera's suggestion, or
-// the distance to the surface at the centre of the image. Throws UsageError on bad values.
-Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera);
+// The lens from the options for an image of this size; focal length from the options or the
+// scene camera's field of view on the sensor; focus distance from the options, the scene camera's
+// suggestion, or the distance to the surface at the centre of the image. Throws UsageError on
+// bad values.
+Lens resolveLens(const LensOptions& options, const LoadedScene& loaded, const std::string& camera,
+                 Size2 size);
+// "WxH" in millimetres or a preset's name; throws UsageError naming the choices.
+Sensor parseSensor(const std::string& text);
+// The lens a report was made with, as one line of key=value pairs (focal length, f-number,
+// focus, sensor and the field of view they give at this size).
+std::string lensSummary(const Lens& lens, Size2 size);
 gpu::ContextOptions contextOptions(const SceneOptions& options);
 
 // The scene on a device with a frame pipeline of the given size, and a request for the view

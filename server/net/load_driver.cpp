@@ -62,13 +62,14 @@ class InputScript {
       messages.push_back({{"type", "camera"},
                           {"position", array(view.position)},
                           {"target", array(view.target)},
-                          {"up", array(view.up)},
-                          {"fov_y_deg", view.fovYDeg}});
+                          {"up", array(view.up)}});
       if (pathSetsLens_)
         messages.push_back({{"type", "lens"},
                             {"focal_length_mm", lens.focalLengthMm},
                             {"f_number", lens.fNumber},
-                            {"focus_distance", lens.focusDistance}});
+                            {"focus_distance", lens.focusDistance},
+                            {"sensor_width_mm", lens.sensor.widthMm},
+                            {"sensor_height_mm", lens.sensor.heightMm}});
     }
     std::vector<Input> inputs;
     for (json& message : messages) {

@@ -148,7 +148,6 @@ CameraMessage parseCamera(const Fields& f) {
   camera.position = f.vec3("position");
   camera.target = f.vec3("target");
   if (f.find("up")) camera.up = f.vec3("up");
-  camera.fovYDeg = static_cast<float>(f.number("fov_y_deg", 1.0, 170.0));
   glm::vec3 forward = camera.target - camera.position;
   if (glm::length(forward) < 1e-6f)
     reject(ErrorCode::OutOfRange, "target", "'target' must differ from 'position'");
@@ -170,6 +169,12 @@ LensMessage parseLens(const Fields& f) {
     reject(ErrorCode::OutOfRange, "blades", "'blades' must be 0 (a circle) or 3 to 16");
   lens.bladeRotationDeg =
       static_cast<float>(f.optionalNumber("blade_rotation_deg", -1e6, 1e6).value_or(0.0));
+  auto width = f.optionalNumber("sensor_width_mm", kMinSensorMm, kMaxSensorMm);
+  auto height = f.optionalNumber("sensor_height_mm", kMinSensorMm, kMaxSensorMm);
+  if (width.has_value() != height.has_value())
+    reject(ErrorCode::BadField, width ? "sensor_height_mm" : "sensor_width_mm",
+           "give both 'sensor_width_mm' and 'sensor_height_mm', or neither (full frame 36x24)");
+  if (width) lens.sensor = {float(*width), float(*height)};
   return lens;
 }
 
@@ -230,13 +235,19 @@ ClientMessage parseObject(const json& object, const Limits& limits) {
   if (name == "hello")
     return parseHello(Fields(object, "", {"type", "protocol", "token", "viewport", "scene"}),
                       limits);
-  if (name == "camera")
-    return parseCamera(
-        Fields(object, "", {"type", "seq", "position", "target", "up", "fov_y_deg"}));
+  if (name == "camera") {
+    // The one field this message has lost: say where it went rather than "unknown field".
+    if (object.contains("fov_y_deg"))
+      reject(ErrorCode::BadField, "fov_y_deg",
+             "'fov_y_deg' is not a camera field: the field of view follows the lens, so send "
+             "'focal_length_mm' (and the sensor) in a lens message");
+    return parseCamera(Fields(object, "", {"type", "seq", "position", "target", "up"}));
+  }
   if (name == "lens")
     return parseLens(Fields(object, "",
                             {"type", "seq", "focal_length_mm", "f_number", "focus_distance",
-                             "blades", "blade_rotation_deg"}));
+                             "blades", "blade_rotation_deg", "sensor_width_mm",
+                             "sensor_height_mm"}));
   if (name == "focus_at")
     return parseFocusAt(Fields(object, "", {"type", "seq", "x", "y", "pull_ms"}));
   if (name == "mode") return parseMode(Fields(object, "", {"type", "seq", "mode", "view"}));

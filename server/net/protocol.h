@@ -51,7 +51,6 @@ struct HelloMessage {
 struct CameraMessage {
   uint32_t seq = 0;
   glm::vec3 position{0.0f}, target{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
-  float fovYDeg = 45.0f;
 };
 
 struct LensMessage {
@@ -59,6 +58,7 @@ struct LensMessage {
   float focalLengthMm = 50.0f, fNumber = 2.8f, focusDistance = 5.0f;
   uint32_t blades = 0;
   float bladeRotationDeg = 0.0f;
+  Sensor sensor;  // full frame unless the message names one
 };
 
 struct FocusAtMessage {

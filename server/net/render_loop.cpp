@@ -171,8 +171,9 @@ void RenderLoop::run() {
 }
 
 void RenderLoop::loop() {
-  FocusPicker pickFocus = [this](const Camera& camera, Viewport viewport, float x, float y) {
-    return depthUnderPixel(bvh_, camera, viewport.width, viewport.height, x, y);
+  FocusPicker pickFocus = [this](const Camera& camera, const Lens& lens, Viewport viewport,
+                                 float x, float y) {
+    return depthUnderPixel(bvh_, camera, lens, viewport.width, viewport.height, x, y);
   };
   std::unique_lock lock(mutex_);
   while (!stopping_) {

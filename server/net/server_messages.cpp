@@ -17,8 +17,7 @@ json cameraJson(const CameraMessage& camera) {
           {"seq", camera.seq},
           {"position", array(camera.position)},
           {"target", array(camera.target)},
-          {"up", array(camera.up)},
-          {"fov_y_deg", camera.fovYDeg}};
+          {"up", array(camera.up)}};
 }
 
 void put32(uint8_t* out, uint32_t value) {
@@ -40,7 +39,6 @@ CameraMessage cameraMessageOf(const Camera& camera, float targetDistance) {
   message.position = camera.position;
   message.target = camera.position + camera.forward * targetDistance;
   message.up = camera.up;
-  message.fovYDeg = glm::degrees(camera.yfov);
   return message;
 }
 
@@ -51,6 +49,7 @@ LensMessage lensMessageOf(const Lens& lens) {
   message.focusDistance = lens.focusDistance;
   message.blades = lens.blades;
   message.bladeRotationDeg = glm::degrees(lens.bladeRotation);
+  message.sensor = lens.sensor;
   return message;
 }
 
@@ -64,10 +63,13 @@ std::string welcomeMessage(const Welcome& welcome) {
     camera.erase("type");
     camera.erase("seq");
     camera["name"] = c.name;
+    // What the client's scene-camera picker turns into a focal length on its sensor.
+    camera["fov_y_deg"] = glm::degrees(c.yfov);
     if (c.focusDistance) camera["focus_distance"] = *c.focusDistance;
     cameras.push_back(camera);
   }
   LensMessage lens = lensMessageOf(welcome.lens);
+  glm::vec2 fov = fieldOfViewDeg(welcome.lens, welcome.viewport.width, welcome.viewport.height);
   json message = {
       {"type", "welcome"},
       {"protocol", kProtocolVersion},
@@ -92,7 +94,11 @@ std::string welcomeMessage(const Welcome& welcome) {
         {"f_number", lens.fNumber},
         {"focus_distance", lens.focusDistance},
         {"blades", lens.blades},
-        {"blade_rotation_deg", lens.bladeRotationDeg}}}};
+        {"blade_rotation_deg", lens.bladeRotationDeg},
+        {"sensor_width_mm", lens.sensor.widthMm},
+        {"sensor_height_mm", lens.sensor.heightMm}}},
+      {"fov_x_deg", fov.x},
+      {"fov_y_deg", fov.y}};
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
@@ -149,7 +155,9 @@ std::string frameStatsJson(const FrameStatsMessage& stats) {
                   {"jpeg_quality", stats.jpegQuality},
                   {"accumulated_frames", stats.accumulatedFrames},
                   {"focus_distance", stats.focusDistance},
-                  {"render_scale", stats.renderScale}};
+                  {"render_scale", stats.renderScale},
+                  {"fov_x_deg", stats.fovDeg.x},
+                  {"fov_y_deg", stats.fovDeg.y}};
   if (stats.inputToSendMs) message["input_to_send_ms"] = *stats.inputToSendMs;
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }

@@ -22,6 +22,7 @@ struct Welcome {
   std::vector<SceneCamera> cameras;
   Camera camera;  // the starting view
   Lens lens;
+  Viewport viewport;  // the session's: the field of view in force follows from it and the lens
 };
 
 // Text the daemon did not write itself (a scene path, a glTF camera name, a client's field) may
@@ -63,6 +64,7 @@ struct FrameStatsMessage {
   uint32_t accumulatedFrames = 0;
   float focusDistance = 0.0f;
   float renderScale = 1.0f;  // the frame's size over the viewport's
+  glm::vec2 fovDeg{0.0f};    // the field of view in force (horizontal, vertical)
 };
 
 std::string frameStatsJson(const FrameStatsMessage& stats);

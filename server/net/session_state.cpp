@@ -29,7 +29,6 @@ Camera cameraOf(const CameraMessage& message, const Camera& base) {
   camera.position = message.position;
   camera.forward = glm::normalize(message.target - message.position);
   camera.up = glm::normalize(message.up - camera.forward * glm::dot(message.up, camera.forward));
-  camera.yfov = glm::radians(message.fovYDeg);
   return camera;
 }
 
@@ -40,6 +39,7 @@ Lens lensOf(const LensMessage& message) {
   lens.focusDistance = message.focusDistance;
   lens.blades = message.blades;
   lens.bladeRotation = glm::radians(message.bladeRotationDeg);
+  lens.sensor = message.sensor;
   return lens;
 }
 
@@ -153,7 +153,7 @@ std::optional<Clock::time_point> SessionState::nextFrameDue() const {
 
 FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pickFocus) {
   if (focusAt_) {
-    std::optional<float> distance = pickFocus(camera_, viewport_, focusAt_->x, focusAt_->y);
+    std::optional<float> distance = pickFocus(camera_, lens_, viewport_, focusAt_->x, focusAt_->y);
     if (distance && focusAt_->pullMs > 0.0f)
       pull_ = FocusPull{lens_.focusDistance, *distance, now, focusAt_->pullMs};
     else if (distance)

@@ -52,7 +52,8 @@ struct FramePlan {
 };
 
 // The distance to focus at for a viewport pixel (the depth of the surface under it), or nothing.
-using FocusPicker = std::function<std::optional<float>(const Camera&, Viewport, float x, float y)>;
+using FocusPicker =
+    std::function<std::optional<float>(const Camera&, const Lens&, Viewport, float x, float y)>;
 
 class SessionState {
  public:

@@ -582,8 +582,13 @@ int WsServer::hello(lws* wsi, Connection& c, const HelloMessage& hello) {
   Welcome welcome = session_.welcome;
   welcome.session = std::to_string(c.id);
   welcome.limits = options_.limits;
+  welcome.viewport = hello.viewport;
+  welcome.lens = withSceneCameraFov(welcome.lens, session_.startCamera, hello.viewport.width,
+                                    hello.viewport.height);
+  SessionDefaults defaults = session_.defaults;
+  defaults.lens = welcome.lens;
   sendText(c, welcomeMessage(welcome));
-  renderLoop_.addSession(c.id, session_.defaults, hello.viewport);
+  renderLoop_.addSession(c.id, defaults, hello.viewport);
   metrics_.sessionStarted();
   logEvent("session_start", "session=" + std::to_string(c.id) + " peer=" + logValue(c.peer) +
                                 " viewport=" + std::to_string(hello.viewport.width) + "x" +
@@ -650,6 +655,7 @@ int WsServer::writeFrame(lws* wsi, Connection& c) {
   stats.accumulatedFrames = frame.plan.accumulatedFrames;
   stats.focusDistance = request.lens.focusDistance;
   stats.renderScale = frame.plan.renderScale;
+  stats.fovDeg = fieldOfViewDeg(request.lens, request.settings.width, request.settings.height);
   std::vector<uint8_t> message = frameMessage(
       {frame.plan.frame, request.settings.width, request.settings.height, frame.plan.seq},
       frameStatsJson(stats), frame.jpeg.bytes, LWS_PRE);

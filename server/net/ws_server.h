@@ -57,6 +57,9 @@ struct ListenError : std::runtime_error {
 struct SessionTemplate {
   Welcome welcome;
   SessionDefaults defaults;
+  // The scene camera of the starting view: each session's starting focal length is the one that
+  // frames as it does at the session's viewport (on the starting lens's sensor).
+  SceneCamera startCamera;
   std::vector<std::string> sceneNames;  // what hello.scene may say
   std::string deviceName;
 };

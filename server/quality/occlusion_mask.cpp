@@ -7,9 +7,8 @@
 
 namespace hdof {
 
-CocParameters cocParameters(const Camera& camera, const Lens& lens, uint32_t width,
-                            uint32_t height) {
-  return {lens.apertureDiameter(), lens.focusDistance, focalLengthPixels(camera, width, height)};
+CocParameters cocParameters(const Lens& lens, uint32_t width, uint32_t height) {
+  return {lens.apertureDiameter(), lens.focusDistance, focalLengthPixels(lens, width, height)};
 }
 
 std::vector<uint8_t> occlusionMask(const std::vector<float>& depth, uint32_t width, uint32_t height,

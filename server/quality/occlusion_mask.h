@@ -17,8 +17,7 @@ struct CocParameters {
 };
 
 // The CoC parameters of a view rendered at width x height.
-CocParameters cocParameters(const Camera& camera, const Lens& lens, uint32_t width,
-                            uint32_t height);
+CocParameters cocParameters(const Lens& lens, uint32_t width, uint32_t height);
 
 struct OcclusionMaskOptions {
   float edgeRatio = 1.1f;      // a neighbour this much deeper (relative) makes a depth edge

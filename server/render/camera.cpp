@@ -10,41 +10,61 @@ Camera Camera::fromScene(const SceneCamera& sceneCamera) {
   camera.forward = glm::normalize(sceneCamera.forward);
   camera.up =
       glm::normalize(sceneCamera.up - camera.forward * glm::dot(sceneCamera.up, camera.forward));
-  camera.yfov = sceneCamera.yfov;
   camera.znear = sceneCamera.znear;
   camera.zfar = sceneCamera.zfar;
   return camera;
 }
 
-float focalLengthPixels(const Camera& camera, uint32_t width, uint32_t height) {
-  float tanHalfY = std::tan(camera.yfov * 0.5f);
-  float tanHalfX = tanHalfY * static_cast<float>(width) / static_cast<float>(height);
-  return static_cast<float>(width) / (2.0f * tanHalfX);
+namespace {
+float aspectOf(uint32_t width, uint32_t height) {
+  return static_cast<float>(width) / static_cast<float>(height);
+}
+}  // namespace
+
+Lens withSceneCameraFov(Lens lens, const SceneCamera& sceneCamera, uint32_t width,
+                        uint32_t height) {
+  lens.focalLengthMm =
+      focalLengthForVerticalFov(sceneCamera.yfov, lens.sensor, aspectOf(width, height));
+  return lens;
+}
+
+glm::vec2 tanHalfFov(const Lens& lens, uint32_t width, uint32_t height) {
+  return tanHalfFov(lens.focalLengthMm, lens.sensor, aspectOf(width, height));
+}
+
+glm::vec2 fieldOfViewDeg(const Lens& lens, uint32_t width, uint32_t height) {
+  return glm::degrees(2.0f * glm::atan(tanHalfFov(lens, width, height)));
+}
+
+float focalLengthPixels(const Lens& lens, uint32_t width, uint32_t height) {
+  return static_cast<float>(width) / (2.0f * tanHalfFov(lens, width, height).x);
 }
 
 gpu::FrameUniforms makeFrameUniforms(const Scene& scene, const Camera& camera, const Lens& lens,
                                      const FrameSettings& settings) {
-  float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
-  float tanHalfY = std::tan(camera.yfov * 0.5f);
+  glm::vec2 tanHalf = tanHalfFov(lens, settings.width, settings.height);
   glm::vec3 right = glm::normalize(glm::cross(camera.forward, camera.up));
   glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
-  glm::mat4 projection = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
+  glm::mat4 projection = glm::perspective(2.0f * std::atan(tanHalf.y),
+                                          aspectOf(settings.width, settings.height),
+                                          camera.znear, camera.zfar);
   projection[1][1] *= -1.0f;  // Vulkan's clip space has y pointing down
 
   gpu::FrameUniforms u{};
   u.viewProj = projection * view;
   u.previousViewProj = u.viewProj;
   u.eye = camera.position;
-  u.tanHalfFovY = tanHalfY;
+  u.tanHalfFovY = tanHalf.y;
   u.right = right;
-  u.tanHalfFovX = tanHalfY * aspect;
+  u.tanHalfFovX = tanHalf.x;
   u.up = camera.up;
   u.apertureDiameter = lens.apertureDiameter();
   u.forward = camera.forward;
   u.focusDistance = lens.focusDistance;
-  u.focalLengthPixels = focalLengthPixels(camera, settings.width, settings.height);
+  u.focalLengthPixels = focalLengthPixels(lens, settings.width, settings.height);
   u.focalLength = lens.focalLengthMm * 0.001f;
   u.fNumber = lens.fNumber;
+  u.acceptableCoc = acceptableCocMm(lens.sensor) * 0.001f;
   u.bladeCount = static_cast<float>(lens.blades);
   u.bladeRotation = lens.bladeRotation;
   u.skyColor = scene.skyColor;

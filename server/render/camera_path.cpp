@@ -95,8 +95,11 @@ CameraPath CameraPath::parse(const std::string& text) {
     } else {
       key.time = keys.size() > 1 ? float(i) / float(keys.size() - 1) : 0.0f;
     }
-    if (auto fov = readPositive(k, "yfov_deg", i, 1.0f, 170.0f))
-      key.yfovRadians = glm::radians(*fov);
+    // A path written when the field of view was the camera's would silently lose its zoom.
+    if (k.contains("yfov_deg"))
+      throw std::invalid_argument("keyframe " + std::to_string(i) +
+                                  ": 'yfov_deg' is no longer read: the field of view follows the "
+                                  "lens, so give 'focal_length_mm' (on the --sensor) instead");
     key.focalLengthMm = readPositive(k, "focal_length_mm", i, 1.0f, 5000.0f);
     key.fNumber = readPositive(k, "f_number", i, 0.5f, 1e7f);
     key.focusDistance = readPositive(k, "focus_distance", i, 0.01f, 1e5f);
@@ -140,7 +143,6 @@ void CameraPath::sample(float fraction, const Camera& baseCamera, const Lens& ba
   glm::vec3 right = glm::cross(camera.forward, up);
   if (glm::length(right) < 1e-6f) right = glm::cross(camera.forward, glm::vec3(1.0f, 0.0f, 0.0f));
   camera.up = glm::normalize(glm::cross(glm::normalize(right), camera.forward));
-  if (auto fov = lerpField(keys, segment, t, &CameraKeyframe::yfovRadians)) camera.yfov = *fov;
 
   lens = baseLens;
   if (auto v = lerpField(keys, segment, t, &CameraKeyframe::focalLengthMm)) lens.focalLengthMm = *v;

@@ -2,10 +2,11 @@
 // interpolated (Catmull-Rom for the view, linear for the lens).
 //
 // {"keyframes": [{"time": 0.0, "position": [x, y, z], "target": [x, y, z], "up": [0, 1, 0],
-//                 "yfov_deg": 40, "focal_length_mm": 50, "f_number": 1.4, "focus_distance": 2.4},
+//                 "focal_length_mm": 50, "f_number": 1.4, "focus_distance": 2.4},
 //                ...]}
 // Only position and target are required. Times, when given, must increase; without them the
-// keyframes are spread evenly. Lens fields missing from every keyframe keep the caller's lens.
+// keyframes are spread evenly. Lens fields missing from every keyframe keep the caller's lens;
+// the focal length, on the caller's sensor, is also the field of view (a zoom).
 #pragma once
 
 #include "render/camera.h"
@@ -20,7 +21,7 @@ namespace hdof {
 struct CameraKeyframe {
   float time = 0.0f;
   glm::vec3 position{0.0f}, target{0.0f, 0.0f, -1.0f}, up{0.0f, 1.0f, 0.0f};
-  std::optional<float> yfovRadians, focalLengthMm, fNumber, focusDistance;
+  std::optional<float> focalLengthMm, fNumber, focusDistance;
 };
 
 class CameraPath {

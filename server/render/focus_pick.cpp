@@ -4,17 +4,16 @@
 
 namespace hdof {
 
-std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, uint32_t width,
-                                     uint32_t height, float x, float y) {
+std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, const Lens& lens,
+                                     uint32_t width, uint32_t height, float x, float y) {
   // The ray through the pixel's centre, as the raster samples it (see makeFrameUniforms).
-  float tanHalfY = std::tan(camera.yfov * 0.5f);
-  float tanHalfX = tanHalfY * float(width) / float(height);
+  glm::vec2 tanHalf = tanHalfFov(lens, width, height);
   float u = (std::floor(x) + 0.5f) / float(width) * 2.0f - 1.0f;
   float v = (std::floor(y) + 0.5f) / float(height) * 2.0f - 1.0f;
   glm::vec3 right = glm::normalize(glm::cross(camera.forward, camera.up));
   // forward has unit length and is orthogonal to the other two terms, so the hit's t is its
   // depth along forward.
-  glm::vec3 direction = camera.forward + right * (u * tanHalfX) - camera.up * (v * tanHalfY);
+  glm::vec3 direction = camera.forward + right * (u * tanHalf.x) - camera.up * (v * tanHalf.y);
   auto hit = intersect(bvh, camera.position, direction, camera.znear);
   if (!hit) return std::nullopt;
   return hit->t;

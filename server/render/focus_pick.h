@@ -12,7 +12,7 @@ namespace hdof {
 // The view depth (metres along the camera's forward axis, as the thin lens's focus distance is
 // measured) of the closest surface through the centre of pixel (x, y) of a width x height image,
 // or nothing where the ray meets no surface.
-std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, uint32_t width,
-                                     uint32_t height, float x, float y);
+std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, const Lens& lens,
+                                     uint32_t width, uint32_t height, float x, float y);
 
 }  // namespace hdof

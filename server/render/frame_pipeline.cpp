@@ -28,14 +28,16 @@ glm::vec2 rasterJitter(uint32_t sample) {
   return i == 0 ? glm::vec2(0.0f) : glm::vec2(halton(i, 2), halton(i, 3)) - 0.5f;
 }
 
-bool sameView(const Camera& a, const Camera& b) {
-  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov;
+// The framing: where the camera is and what it sees, which focal length and sensor decide.
+bool sameView(const Camera& a, const Lens& aLens, const Camera& b, const Lens& bLens) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up &&
+         aLens.focalLengthMm == bLens.focalLengthMm && aLens.sensor == bLens.sensor;
 }
 
 bool sameLens(const Lens& a, const Lens& b) {
   return a.focalLengthMm == b.focalLengthMm && a.fNumber == b.fNumber &&
          a.focusDistance == b.focusDistance && a.blades == b.blades &&
-         a.bladeRotation == b.bladeRotation;
+         a.bladeRotation == b.bladeRotation && a.sensor == b.sensor;
 }
 
 }  // namespace
@@ -63,7 +65,7 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
       commandBuffer_(context.allocateCommandBuffer()),
       fence_(gpu::createFence(context)) {
   gbuffer_.bindImages(images_->gbuffer, width, height);
-  // Every mode and a debug view recorded once, not submitted: a binding that does not match its
+  // Every mode and the debug views recorded once, not submitted: a binding that does not match its
   // shader is an error now rather than on a client's first frame in that mode.
   VK_CHECK(vkBeginCommandBuffer(commandBuffer_, &kOneTimeSubmit));
   FrameRequest request;
@@ -78,9 +80,12 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
     record(commandBuffer_, request, uniforms, {});
   }
   request.mode = RenderMode::Hybrid;
-  request.view = DebugView::Mask;
-  timer_.reset(commandBuffer_);
-  record(commandBuffer_, request, uniforms, {});
+  // The debug views share one shader, except the in-focus zone's, drawn over the composite.
+  for (DebugView view : {DebugView::Mask, DebugView::FocusZone}) {
+    request.view = view;
+    timer_.reset(commandBuffer_);
+    record(commandBuffer_, request, uniforms, {});
+  }
   VK_CHECK(vkEndCommandBuffer(commandBuffer_));
   VK_CHECK(vkResetCommandBuffer(commandBuffer_, 0));
 }
@@ -141,7 +146,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
   bool raster = request.mode == RenderMode::Pinhole || request.mode == RenderMode::PostProcess ||
                 request.mode == RenderMode::Hybrid;
-  bool stillRaster = raster_.valid && sameView(raster_.camera, request.camera) &&
+  bool stillRaster = raster_.valid && sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
                      request.settings.pixelJitter;
   // In motion too each frame samples another position in the pixel (after a cut, the centre),
   // which the reprojected history gathers, as TAA does.
@@ -159,7 +164,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   if (request.mode == RenderMode::RayTrace) {
     bool keep = accumulation_.valid && accumulation_.mode == RenderMode::RayTrace &&
                 accumulation_.raysPerFrame == request.settings.samplesPerPixel &&
-                sameView(accumulation_.camera, request.camera) &&
+                sameView(accumulation_.camera, accumulation_.lens, request.camera, request.lens) &&
                 sameLens(accumulation_.lens, request.lens);
     rays = {keep ? accumulation_.samples : 0, request.settings.samplesPerPixel, keep ? 1u : 0u,
             gpu::kSequenceRayTrace};
@@ -189,7 +194,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
 
   previousViewProj_ = uniforms.viewProj;
   if (raster)
-    raster_ = {true, request.camera, uniforms.rasterSample + 1, moving ? raster_.moves + 1 : 0};
+    raster_ = {true, request.camera, request.lens, uniforms.rasterSample + 1,
+               moving ? raster_.moves + 1 : 0};
   bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
   if (rayTraced) {
     accumulation_ = {true,

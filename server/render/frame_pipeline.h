@@ -114,10 +114,12 @@ class FramePipeline {
   // The bytes of an image (tightly packed rows), after the GPU is idle.
   const void* readImage(const gpu::Image& image, uint32_t bytesPerPixel);
 
-  // What the raster's anti-aliased colour holds: samples of one view (lens changes keep it).
+  // What the raster's anti-aliased colour holds: samples of one view (changes of the lens that
+  // keep its framing, such as focus and aperture, keep it).
   struct RasterHistory {
     bool valid = false;
     Camera camera;
+    Lens lens;
     uint32_t samples = 0;
     uint32_t moves = 0;  // frames in motion since the view last rested or was cut
   } raster_;

@@ -10,7 +10,8 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
       temporal_(context, "hybrid_temporal.comp"),
       spatial_(context, "hybrid_spatial.comp"),
       composite_(context, "hybrid_composite.comp"),
-      debugView_(context, "debug_view.comp") {}
+      debugView_(context, "debug_view.comp"),
+      focusZone_(context, "focus_zone.comp") {}
 
 void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView view,
                        bool traceEverywhere) const {
@@ -65,7 +66,7 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"outNear", h.reconstructedNear},
                   {"outFar", h.reconstructedFar}},
                  Grid::indirect(m.workList));
-  if (view == DebugView::Final) {
+  if (view == DebugView::Final || view == DebugView::FocusZone) {
     steps.dispatch(composite_,
                    {{"rays", m.rays},
                     {"sharp", g.color},
@@ -85,6 +86,10 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"outColor", h.output}},
                    Grid::over(h.output), static_cast<uint32_t>(view), "hybrid_composite");
   }
+  // The in-focus zone is drawn over the finished image rather than in place of it.
+  if (view == DebugView::FocusZone)
+    steps.dispatch(focusZone_, {{"normalDepth", g.normalDepth}, {"color", h.output}},
+                   Grid::over(h.output));
 }
 
 void HybridDof::advance() {

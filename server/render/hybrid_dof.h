@@ -18,7 +18,8 @@ class HybridDof {
   void resetHistory() { hasHistory_ = false; }
   // Reads images.gbuffer and images.dof.output; writes images.mask and images.hybrid, the frame
   // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays. view
-  // other than Final draws that debug view instead of the composite. traceEverywhere: a full
+  // other than Final draws that debug view instead of the composite (FocusZone over it).
+  // traceEverywhere: a full
   // mask (every pixel gets the full rays). advance(): once the frame is submitted.
   void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
               bool traceEverywhere = false) const;
@@ -28,7 +29,7 @@ class HybridDof {
 
  private:
   RayMask mask_;
-  gpu::ComputeProgram trace_, temporal_, spatial_, composite_, debugView_;
+  gpu::ComputeProgram trace_, temporal_, spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;
   uint32_t current_ = 0;  // the history set the last frame wrote
 };

@@ -17,7 +17,8 @@ constexpr Named<RenderMode> kModes[] = {{RenderMode::Pinhole, "pinhole"},
 
 constexpr Named<DebugView> kViews[] = {{DebugView::Final, "final"},       {DebugView::Mask, "mask"},
                                        {DebugView::HitRatio, "hitratio"}, {DebugView::Coc, "coc"},
-                                       {DebugView::Near, "near"},         {DebugView::Far, "far"}};
+                                       {DebugView::Near, "near"},         {DebugView::Far, "far"},
+                                       {DebugView::FocusZone, "focus_zone"}};
 
 template <typename T, size_t N>
 const char* nameOf(const Named<T> (&table)[N], T value) {

@@ -23,6 +23,7 @@ enum class DebugView : uint32_t {
   Coc = gpu::kDebugViewCoc,
   Near = gpu::kDebugViewNear,
   Far = gpu::kDebugViewFar,
+  FocusZone = gpu::kDebugViewFocusZone,
 };
 
 const char* debugViewName(DebugView view);

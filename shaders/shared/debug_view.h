@@ -12,6 +12,7 @@ HDOF_CONST uint kDebugViewHitRatio = 2;  // the accumulated near-hit ratio
 HDOF_CONST uint kDebugViewCoc = 3;       // signed CoC: near blue, far red, focus zone black
 HDOF_CONST uint kDebugViewNear = 4;      // the reconstructed near layer
 HDOF_CONST uint kDebugViewFar = 5;       // the reconstructed far layer
+HDOF_CONST uint kDebugViewFocusZone = 6;  // the composite, the in-focus zone tinted green
 
 HDOF_NAMESPACE_END
 

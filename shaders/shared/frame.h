@@ -38,7 +38,7 @@ struct FrameUniforms {
   vec3 skyColor;  // ambient light from above (linear RGB)
   float exposure;
   vec3 groundColor;  // ambient light from below
-  float unused3;
+  float acceptableCoc;  // metres on the sensor: the circle of confusion accepted as sharp
   uvec2 imageSize;       // pixels
   uint frameIndex;       // for sampling sequences
   uint samplesPerPixel;  // rays per pixel this frame
@@ -68,16 +68,18 @@ struct RayTraceRays {
 
 // Signed circle of confusion, in pixels, of a point at linear view depth z (metres along the view
 // axis): negative in front of the focus plane (near field), positive behind it (far field).
-// Thin lens (Potmesil 1982): on a sensor the CoC is A |z - S| / z * f / (S - f); the sensor width
-// that the field of view implies at focus distance S is 2 tan(hfov/2) f S / (S - f), so in pixels
-// it reduces to A (z - S) / (z S) times the focal length in pixels. For a 36 mm sensor and a field
-// of view that matches the focal length this is exactly the sensor formula times width / 36 mm.
+// The thin-lens rays see the focus plane S through a field of view that does not change with focus
+// (the lens's at infinity, render/lens_optics.h), so a blur of A |z - S| / z on that plane is
+// A (z - S) / (z S) times the focal length in pixels. On a sensor (Potmesil 1982) the CoC is
+// A |z - S| / z * f / (S - f), the same times width / sensor width except for the factor
+// S / (S - f) that focus breathing would bring (2 % at 2.4 m with 50 mm).
 HDOF_FN float signedCocPixels(float z, float apertureDiameter, float focusDistance,
                               float focalLengthPixels) {
   return apertureDiameter * focalLengthPixels * (z - focusDistance) / (z * focusDistance);
 }
 
-// The sensor-plane CoC diameter (same units as the focal length) for a sensor-based check.
+// The sensor-plane CoC diameter (same units as the focal length): what the depth of field's
+// near and far limits (render/lens_optics.h) compare with the acceptable circle.
 HDOF_FN float cocOnSensor(float z, float focalLength, float fNumber, float focusDistance) {
   float aperture = focalLength / fNumber;
   return aperture * abs(z - focusDistance) / z * focalLength / (focusDistance - focalLength);

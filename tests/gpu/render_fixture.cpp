@@ -26,6 +26,12 @@ SceneOnGpu& testScene(const std::string& spec) {
   return *entry;
 }
 
+Lens onSceneCameraSensor(Lens lens, const SceneCamera& camera, uint32_t width, uint32_t height) {
+  float sensorHeight = 2.0f * lens.focalLengthMm * std::tan(0.5f * camera.yfov);
+  lens.sensor = {sensorHeight * float(width) / float(height), sensorHeight};
+  return lens;
+}
+
 namespace {
 
 FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
@@ -35,7 +41,7 @@ FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   FrameRequest request;
   request.mode = spec.mode;
   request.camera = Camera::fromScene(*sceneCamera);
-  request.lens = spec.lens;
+  request.lens = onSceneCameraSensor(spec.lens, *sceneCamera, spec.width, spec.height);
   if (request.lens.focusDistance <= 0.0f)
     request.lens.focusDistance = sceneCamera->focusDistance.value_or(5.0f);
   request.settings.width = spec.width;
@@ -77,7 +83,7 @@ std::vector<uint8_t> occlusionRegion(const RenderSpec& spec) {
   FrameRequest request;
   std::vector<float> depth = renderDepth(spec, &request);
   return occlusionMask(depth, spec.width, spec.height,
-                       cocParameters(request.camera, request.lens, spec.width, spec.height));
+                       cocParameters(request.lens, spec.width, spec.height));
 }
 
 std::vector<glm::vec4> readImage(const gpu::Image& image) {

@@ -37,6 +37,11 @@ struct RenderSpec {
   Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
 };
 
+// The lens on the sensor on which its focal length frames an image of this size as the scene
+// camera does (a sensor of the image's aspect, 2 f tan(fov / 2) on each side): the scene camera's
+// framing with the lens's blur, which these tests' expectations are worked out for.
+Lens onSceneCameraSensor(Lens lens, const SceneCamera& camera, uint32_t width, uint32_t height);
+
 ImageRgba8 renderImage(const RenderSpec& spec);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);

@@ -52,10 +52,11 @@ TEST(AntiAliasing, FramesInMotionGatherJitteredSamples) {
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
   FrameRequest request;
   request.mode = RenderMode::Pinhole;
-  request.lens = Lens{50.0f, 1e6f, 2.4f};
+  const SceneCamera& closeup = *scene.scene.findCamera("closeup");
+  request.lens = onSceneCameraSensor(Lens{50.0f, 1e6f, 2.4f}, closeup, kWidth, kHeight);
   request.settings.width = kWidth;
   request.settings.height = kHeight;
-  Camera end = Camera::fromScene(*scene.scene.findCamera("closeup"));
+  Camera end = Camera::fromScene(closeup);
   request.camera = end;
   pipeline.render(request);
   double oneSample = compareImages(pipeline.image(), supersampled()).psnrDb;
@@ -110,8 +111,9 @@ TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
   FrameRequest request;
   request.mode = RenderMode::PostProcess;
-  request.camera = Camera::fromScene(*scene.scene.findCamera("closeup"));
-  request.lens = Lens{50.0f, 1e6f, 2.4f};
+  const SceneCamera& closeup = *scene.scene.findCamera("closeup");
+  request.camera = Camera::fromScene(closeup);
+  request.lens = onSceneCameraSensor(Lens{50.0f, 1e6f, 2.4f}, closeup, kWidth, kHeight);
   request.settings.width = kWidth;
   request.settings.height = kHeight;
   auto rasterised = [](const FrameStats& stats) {

@@ -26,7 +26,7 @@ TEST(FocusPick, DepthUnderPixelMatchesTheGBuffer) {
           flat = flat && std::abs(depth[(y + dy) * spec.width + x + dx] - d) < 0.02f * d;
       if (!flat) continue;
       std::optional<float> picked =
-          depthUnderPixel(bvh, request.camera, spec.width, spec.height, float(x), float(y));
+          depthUnderPixel(bvh, request.camera, request.lens, spec.width, spec.height, float(x), float(y));
       ASSERT_TRUE(picked) << x << "," << y;
       EXPECT_NEAR(*picked, d, 0.01f * d) << x << "," << y;
       ++compared;

@@ -24,7 +24,9 @@ struct TemporalRig {
     FrameRequest request;
     request.mode = RenderMode::Hybrid;
     request.camera = Camera::fromScene(scene.scene.cameras.front());
-    request.lens = Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+    request.lens = onSceneCameraSensor(
+        Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance}, scene.scene.cameras.front(),
+        kWidth, kHeight);
     request.settings = {kWidth, kHeight, frame, kRaysPerPixel};
     if (cut) pipeline.resetHistory();
     pipeline.render(request);
@@ -99,7 +101,9 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   FrameRequest request;
   request.mode = RenderMode::Hybrid;
   request.camera = Camera::fromScene(scene.scene.cameras.front());
-  request.lens = Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+  request.lens = onSceneCameraSensor(
+      Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance}, scene.scene.cameras.front(),
+      spec.width, spec.height);
   request.settings = {spec.width, spec.height, 0, 2};
   FrameStats stats = pipeline.render(request);
   EXPECT_GT(stats.maskCoverage, 0.01);

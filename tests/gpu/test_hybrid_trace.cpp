@@ -27,7 +27,8 @@ struct TraceRig {
   gpu::GpuTimer timer{testContext()};
 
   TraceRig() {
-    Lens lens{100.0f, 1.4f, *scene.scene.cameras.front().focusDistance};
+    Lens lens = onSceneCameraSensor(Lens{100.0f, 1.4f, *scene.scene.cameras.front().focusDistance},
+                                    scene.scene.cameras.front(), kWidth, kHeight);
     FrameSettings settings{kWidth, kHeight};
     gpu::FrameUniforms u = makeFrameUniforms(
         scene.scene, Camera::fromScene(scene.scene.cameras.front()), lens, settings);

@@ -12,6 +12,7 @@ TEST(MotionVectors, FollowTheCameraAndVanishAfterACut) {
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, width, height);
   FrameRequest request;
   request.camera = Camera::fromScene(scene.scene.cameras.front());
+  request.lens = onSceneCameraSensor(request.lens, scene.scene.cameras.front(), width, height);
   request.settings.width = width;
   request.settings.height = height;
 
@@ -27,7 +28,7 @@ TEST(MotionVectors, FollowTheCameraAndVanishAfterACut) {
       step * glm::normalize(glm::cross(request.camera.forward, request.camera.up));
   pipeline.render(request);
   std::vector<glm::vec2> motion = pipeline.motionVectors();
-  float expected = focalLengthPixels(request.camera, width, height) * step / distance;
+  float expected = focalLengthPixels(request.lens, width, height) * step / distance;
   for (uint32_t y = 10; y < height; y += 20)
     for (uint32_t x = 10; x < width; x += 20) {
       glm::vec2 m = motion[y * width + x];

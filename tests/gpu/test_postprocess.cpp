@@ -41,6 +41,8 @@ class PostProcessRig {
   // lens.focusDistance 0: the scene camera's suggestion.
   Frame render(Lens lens) {
     if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
+    lens = onSceneCameraSensor(lens, scene_.scene.cameras.front(), request_.settings.width,
+                               request_.settings.height);
     request_.lens = lens;
     uniforms = makeFrameUniforms(scene_.scene, request_.camera, lens, request_.settings);
     Frame frame;
@@ -233,7 +235,7 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
   spec.lens = Lens{50.0f, 1.4f, 2.4f};
   FrameRequest request;
   std::vector<float> depth = renderDepth(spec, &request);
-  CocParameters coc = cocParameters(request.camera, request.lens, spec.width, spec.height);
+  CocParameters coc = cocParameters(request.lens, spec.width, spec.height);
   std::vector<uint8_t> beside = besideInFocusSilhouettes(depth, spec.width, spec.height, coc, 2, 4);
   std::vector<uint8_t> further =
       besideInFocusSilhouettes(depth, spec.width, spec.height, coc, 6, 9);

@@ -54,6 +54,7 @@ class RayMaskRig {
     FrameSettings settings;
     settings.width = width();
     settings.height = height();
+    lens = onSceneCameraSensor(lens, scene_.scene.cameras.front(), width(), height());
     settings.samplesPerPixel = kSamplesPerPixel;
     gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
     std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));

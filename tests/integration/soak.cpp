@@ -105,8 +105,7 @@ struct Misbehavers {
         nlohmann::json camera = {{"type", "camera"},
                                  {"seq", seq},
                                  {"position", {0.002 * (seq % 200), 1.4, 4.0}},
-                                 {"target", {0.0, 1.0, 0.0}},
-                                 {"fov_y_deg", 40}};
+                                 {"target", {0.0, 1.0, 0.0}}};
         bool ok = connection.sendText(camera.dump()) && connection.sendBytes(pong);
         for (uint32_t frame = uint32_t(std::max(1.0, guess - 16)); ok && frame <= uint32_t(guess);
              ++frame)
@@ -136,9 +135,7 @@ struct Misbehavers {
               {"type", "camera"},
               {"seq", seq * 10 + i},
               {"position", {0.001 * i, 1.5, 4.0 + 0.001 * seq}},
-              {"target", {0.0, 1.0, 0.0}},
-              {"fov_y_deg",
-               40}}.dump());
+              {"target", {0.0, 1.0, 0.0}}}.dump());
         }
         for (int i = 0; i < 5; ++i) client.sendText("{not json");
         for (int i = 0; i < 5; ++i) client.sendText(R"({"type":"ack","frame":4000000000})");

@@ -76,8 +76,7 @@ TEST(Hardening, AForgedAckNonReaderCannotMakeFramesPileUp) {
     nlohmann::json camera = {{"type", "camera"},
                              {"seq", seq},
                              {"position", {0.001 * (seq % 100), 1.5, 4.0}},
-                             {"target", {0.0, 1.0, 0.0}},
-                             {"fov_y_deg", 40}};
+                             {"target", {0.0, 1.0, 0.0}}};
     // Any write may fail once the daemon has hung up.
     attacker.sendText(camera.dump());
     attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", uint32_t(sent)}}.dump());
@@ -121,8 +120,7 @@ TEST(Hardening, ACountingForgerIsPausedOnceItLeavesAPingUnanswered) {
     nlohmann::json camera = {{"type", "camera"},
                              {"seq", guess},
                              {"position", {0.001 * (guess % 100), 1.5, 4.0}},
-                             {"target", {0.0, 1.0, 0.0}},
-                             {"fov_y_deg", 40}};
+                             {"target", {0.0, 1.0, 0.0}}};
     attacker.sendText(camera.dump());
     for (uint32_t frame = guess > 8 ? guess - 8 : 1; frame <= guess; ++frame)
       attacker.sendText(nlohmann::json{{"type", "ack"}, {"frame", frame}}.dump());

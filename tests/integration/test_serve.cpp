@@ -3,6 +3,7 @@
 #include "daemon.h"
 
 #include "encode/jpeg.h"
+#include "net/message_codec.h"
 #include "net/session_state.h"
 #include "render/focus_pick.h"
 #include "scene/bvh.h"
@@ -58,6 +59,15 @@ TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
   EXPECT_EQ(welcome["scene"]["name"], "builtin:dof");
   EXPECT_EQ(welcome["camera"]["type"], "camera");
   EXPECT_GT(welcome["lens"]["focus_distance"].get<double>(), 0.0);
+  // The starting lens keeps the scene camera's framing on a full-frame sensor at this viewport:
+  // 2 atan(extent / 2f) of the lens is the camera's field of view.
+  EXPECT_EQ(welcome["lens"]["sensor_width_mm"], 36.0);
+  EXPECT_EQ(welcome["lens"]["sensor_height_mm"], 24.0);
+  double cameraFov = welcome["scene"]["cameras"][0]["fov_y_deg"];
+  EXPECT_NEAR(welcome["fov_y_deg"].get<double>(), cameraFov, 1e-3);
+  double extentY = 36.0 * kHeight / kWidth;  // 96x64 is 3:2, the sensor's aspect
+  EXPECT_NEAR(2.0 * std::atan(extentY / (2.0 * welcome["lens"]["focal_length_mm"].get<double>())),
+              cameraFov * M_PI / 180.0, 1e-5);
 
   std::optional<Frame> frame = nextFrame(*client);
   ASSERT_TRUE(frame) << daemon.log();
@@ -72,6 +82,31 @@ TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
   EXPECT_EQ(frame->stats["mode"], "postprocess");
   EXPECT_EQ(frame->stats["bytes"], frame->jpeg.size());
   EXPECT_TRUE(frame->stats["passes_ms"].contains("gbuffer"));
+  EXPECT_NEAR(frame->stats["fov_y_deg"].get<double>(), cameraFov, 1e-3);
+}
+
+TEST(Serve, ALongerLensNarrowsTheFieldOfViewAndASensorWidensIt) {
+  Daemon daemon(withConfig("pinhole"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, kWidth, kHeight);
+  nlohmann::json lens = welcome["lens"];
+  // 100 mm on full frame at 3:2: 2 atan(18 / 100) = 20.408 degrees across, 2 atan(12 / 100) =
+  // 13.686 up.
+  lens["seq"] = 1;
+  lens["focal_length_mm"] = 100;
+  client->sendText(lens.dump());
+  std::optional<Frame> tele = frameApplying(*client, 1);
+  ASSERT_TRUE(tele) << daemon.log();
+  EXPECT_NEAR(tele->stats["fov_x_deg"].get<double>(), 20.408, 1e-3);
+  EXPECT_NEAR(tele->stats["fov_y_deg"].get<double>(), 13.686, 1e-3);
+  // A 72 x 48 mm sensor behind the same lens sees twice the tangent: 2 atan(0.36) = 39.598.
+  lens["seq"] = 2;
+  lens["sensor_width_mm"] = 72;
+  lens["sensor_height_mm"] = 48;
+  client->sendText(lens.dump());
+  std::optional<Frame> wide = frameApplying(*client, 2);
+  ASSERT_TRUE(wide) << daemon.log();
+  EXPECT_NEAR(wide->stats["fov_x_deg"].get<double>(), 39.598, 1e-3);
 }
 
 TEST(Serve, CameraMoveGivesADifferentFrameWithItsSeq) {
@@ -105,12 +140,13 @@ TEST(Serve, FocusAtFocusesOnTheDepthUnderThePixel) {
     message.target[i] = camera["target"][i];
     message.up[i] = camera["up"][i];
   }
-  message.fovYDeg = camera["fov_y_deg"];
   Camera view = net::cameraOf(message, Camera::fromScene(scene.cameras.front()));
+  Lens lens = net::lensOf(std::get<net::LensMessage>(
+      *net::parseClientMessage(welcome["lens"].dump(), net::Limits{}).message));
   std::vector<std::pair<glm::vec2, float>> picks;
   for (uint32_t y = 4; y < kHeight; y += 8)
     for (uint32_t x = 4; x < kWidth; x += 8)
-      if (auto depth = depthUnderPixel(bvh, view, kWidth, kHeight, float(x), float(y)))
+      if (auto depth = depthUnderPixel(bvh, view, lens, kWidth, kHeight, float(x), float(y)))
         if (picks.empty() || std::abs(*depth - picks.front().second) > 0.3f * picks.front().second)
           if (picks.size() < 2) picks.push_back({glm::vec2(x, y), *depth});
   ASSERT_EQ(picks.size(), 2u);
@@ -226,16 +262,17 @@ TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
       {R"({"type": "warp"})", "unknown_type", "type"},
       {R"({"seq": 1})", "bad_field", "type"},
       {withField("position", "here"), "bad_field", "position"},
-      {withField("fov_y_deg", 500), "out_of_range", "fov_y_deg"},
-      {withField("fov_y_deg", 1e300), "out_of_range", "fov_y_deg"},
+      {withField("fov_y_deg", 40), "bad_field", "fov_y_deg"},  // the lens makes it
       // JSON has no infinity: a number too large for a double is not JSON the parser takes.
-      {R"({"type":"camera","seq":1,"position":[0,0,1e999],"target":[0,0,0],"fov_y_deg":40})",
+      {R"({"type":"camera","seq":1,"position":[0,0,1e999],"target":[0,0,0]})",
        "bad_json", ""},
       {withField("zoom", 2), "bad_field", "zoom"},
       {withField("seq", -1), "out_of_range", "seq"},
       {withField("seq", 1.5), "bad_field", "seq"},
       {R"({"type":"lens","seq":1,"focal_length_mm":50,"f_number":-1,"focus_distance":2})",
        "out_of_range", "f_number"},
+      {R"({"type":"lens","seq":1,"focal_length_mm":50,"f_number":2,"focus_distance":2,"sensor_width_mm":400,"sensor_height_mm":24})",
+       "out_of_range", "sensor_width_mm"},
       {R"({"type":"focus_at","seq":1,"x":5000,"y":1})", "out_of_range", "x"},
       {R"({"type":"mode","seq":1,"mode":"blurry"})", "out_of_range", "mode"},
       {R"({"type":"settings","rays_per_pixel":9})", "out_of_range", "rays_per_pixel"},

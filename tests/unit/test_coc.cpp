@@ -17,20 +17,20 @@ TEST(CircleOfConfusion, SensorFormulaMatchesHandComputedValues) {
   EXPECT_EQ(gpu::cocOnSensor(2.0f, 0.05f, 2.0f, 2.0f), 0.0f);
 }
 
-TEST(CircleOfConfusion, PixelsAreSignedAndMatchA36mmSensor) {
-  // A camera whose field of view is what a 36 mm wide sensor sees at focus distance S through a
-  // 50 mm lens (image distance v = fS / (S - f)): the pixel CoC is the sensor CoC * width / 36.
+TEST(CircleOfConfusion, PixelsAreSignedAndFollowTheSensorFormula) {
+  // 50 mm at f/2 focused at 2 m on a full-frame sensor, a 3:2 image 1200 pixels wide: the field of
+  // view is the lens's at infinity, so the pixel CoC is the sensor CoC * width / 36 mm times
+  // (S - f) / S (the image distance at focus, fS / (S - f), is left out: no focus breathing).
   const float f = 0.05f, n = 2.0f, s = 2.0f;
-  const uint32_t width = 1000, height = 500;
-  float imageDistance = f * s / (s - f);
-  float tanHalfX = 0.018f / imageDistance;
-  Camera camera;
-  camera.yfov = 2.0f * std::atan(tanHalfX * float(height) / float(width));
-  float focalPixels = focalLengthPixels(camera, width, height);
-  EXPECT_NEAR(focalPixels, float(width) / (2.0f * tanHalfX), 0.01f);
+  const uint32_t width = 1200, height = 800;
+  Lens lens;
+  lens.focalLengthMm = 50.0f;
+  lens.fNumber = n;
+  float focalPixels = focalLengthPixels(lens, width, height);
+  EXPECT_NEAR(focalPixels, 50.0f * float(width) / 36.0f, 0.01f);
   for (float z : {0.5f, 1.0f, 3.0f, 10.0f, 1000.0f}) {
-    float pixels = gpu::signedCocPixels(z, f / n, s, focalPixels);
-    float expected = gpu::cocOnSensor(z, f, n, s) * float(width) / 0.036f;
+    float pixels = gpu::signedCocPixels(z, lens.apertureDiameter(), s, focalPixels);
+    float expected = gpu::cocOnSensor(z, f, n, s) * float(width) / 0.036f * (s - f) / s;
     EXPECT_NEAR(std::abs(pixels), expected, expected * 1e-4f) << z;
     EXPECT_EQ(pixels < 0.0f, z < s) << "near field negative, far field positive at " << z;
   }

@@ -26,7 +26,7 @@ void expectError(const std::string& text, ErrorCode code, const std::string& fie
 }
 
 const std::string kCamera =
-    R"({"type":"camera","seq":3,"position":[1,2,3],"target":[0,0,0],"fov_y_deg":40)";
+    R"({"type":"camera","seq":3,"position":[1,2,3],"target":[0,0,0])";
 
 TEST(MessageCodec, ValidMessagesGiveTheirValues) {
   ParsedMessage hello = parse(
@@ -44,12 +44,16 @@ TEST(MessageCodec, ValidMessagesGiveTheirValues) {
   EXPECT_EQ(c.seq, 3u);
   EXPECT_EQ(c.position, glm::vec3(1, 2, 3));
   EXPECT_EQ(c.up, glm::vec3(0, 1, 0));
-  EXPECT_FLOAT_EQ(c.fovYDeg, 40.0f);
 
   ParsedMessage lens = parse(
       R"({"type":"lens","seq":4,"focal_length_mm":35,"f_number":1.4,"focus_distance":2.5,"blades":6,"blade_rotation_deg":10})");
   ASSERT_TRUE(lens.ok()) << lens.error.message;
   EXPECT_EQ(std::get<LensMessage>(*lens.message).blades, 6u);
+  EXPECT_EQ(std::get<LensMessage>(*lens.message).sensor, Sensor{}) << "full frame unless named";
+  ParsedMessage aps = parse(
+      R"({"type":"lens","seq":4,"focal_length_mm":35,"f_number":1.4,"focus_distance":2.5,"sensor_width_mm":23.6,"sensor_height_mm":15.6})");
+  ASSERT_TRUE(aps.ok()) << aps.error.message;
+  EXPECT_EQ(std::get<LensMessage>(*aps.message).sensor, (Sensor{23.6f, 15.6f}));
 
   ParsedMessage focus = parse(R"({"type":"focus_at","seq":5,"x":10.5,"y":20,"pull_ms":300})");
   ASSERT_TRUE(focus.ok());
@@ -90,14 +94,12 @@ TEST(MessageCodec, TypeMustBeAKnownString) {
 }
 
 TEST(MessageCodec, WrongFieldTypesAreBadFields) {
-  expectError(R"({"type":"camera","seq":"3","position":[1,2,3],"target":[0,0,0],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":"3","position":[1,2,3],"target":[0,0,0]})",
               ErrorCode::BadField, "seq");
-  expectError(R"({"type":"camera","seq":3,"position":[1,2],"target":[0,0,0],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":3,"position":[1,2],"target":[0,0,0]})",
               ErrorCode::BadField, "position");
-  expectError(R"({"type":"camera","seq":3,"position":[1,2,"x"],"target":[0,0,0],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":3,"position":[1,2,"x"],"target":[0,0,0]})",
               ErrorCode::BadField, "position");
-  expectError(R"({"type":"camera","seq":3,"position":[1,2,3],"target":[0,0,0],"fov_y_deg":true})",
-              ErrorCode::BadField, "fov_y_deg");
   expectError(R"({"type":"ack","frame":1.5})", ErrorCode::BadField, "frame");
   expectError(R"({"type":"hello","protocol":1,"viewport":[640,480]})", ErrorCode::BadField,
               "viewport");
@@ -109,9 +111,14 @@ TEST(MessageCodec, WrongFieldTypesAreBadFields) {
 }
 
 TEST(MessageCodec, MissingAndUnknownFieldsAreBadFields) {
-  expectError(R"({"type":"camera","seq":3,"target":[0,0,0],"fov_y_deg":40})", ErrorCode::BadField,
+  expectError(R"({"type":"camera","seq":3,"target":[0,0,0]})", ErrorCode::BadField,
               "position");
   expectError(kCamera + R"(,"zoom":2})", ErrorCode::BadField, "zoom");
+  // The field of view follows the lens: a camera that still sends one is told where it went.
+  ParsedMessage fov = parse(kCamera + R"(,"fov_y_deg":40})");
+  ASSERT_FALSE(fov.ok());
+  EXPECT_EQ(fov.error.field, "fov_y_deg");
+  EXPECT_NE(fov.error.message.find("focal_length_mm"), std::string::npos) << fov.error.message;
   expectError(R"({"type":"hello","protocol":1})", ErrorCode::BadField, "viewport");
   expectError(R"({"type":"hello","protocol":1,"viewport":{"width":64,"height":48,"depth":3}})",
               ErrorCode::BadField, "viewport.depth");
@@ -119,19 +126,17 @@ TEST(MessageCodec, MissingAndUnknownFieldsAreBadFields) {
 }
 
 TEST(MessageCodec, ValuesOutOfRange) {
-  expectError(kCamera.substr(0, kCamera.size() - 2) + "500}", ErrorCode::OutOfRange, "fov_y_deg");
-  expectError(kCamera.substr(0, kCamera.size() - 2) + "1e300}", ErrorCode::OutOfRange, "fov_y_deg");
-  expectError(R"({"type":"camera","seq":-1,"position":[1,2,3],"target":[0,0,0],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":-1,"position":[1,2,3],"target":[0,0,0]})",
               ErrorCode::OutOfRange, "seq");
   expectError(
-      R"({"type":"camera","seq":4294967296,"position":[1,2,3],"target":[0,0,0],"fov_y_deg":40})",
+      R"({"type":"camera","seq":4294967296,"position":[1,2,3],"target":[0,0,0]})",
       ErrorCode::OutOfRange, "seq");
-  expectError(R"({"type":"camera","seq":1,"position":[1,2,3],"target":[1,2,3],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":1,"position":[1,2,3],"target":[1,2,3]})",
               ErrorCode::OutOfRange, "target");
   expectError(
-      R"({"type":"camera","seq":1,"position":[0,0,0],"target":[0,1,0],"up":[0,2,0],"fov_y_deg":40})",
+      R"({"type":"camera","seq":1,"position":[0,0,0],"target":[0,1,0],"up":[0,2,0]})",
       ErrorCode::OutOfRange, "up");
-  expectError(R"({"type":"camera","seq":1,"position":[0,0,1e30],"target":[0,0,0],"fov_y_deg":40})",
+  expectError(R"({"type":"camera","seq":1,"position":[0,0,1e30],"target":[0,0,0]})",
               ErrorCode::OutOfRange, "position");
   expectError(R"({"type":"hello","protocol":2,"viewport":{"width":64,"height":48}})",
               ErrorCode::OutOfRange, "protocol");
@@ -148,6 +153,14 @@ TEST(MessageCodec, ValuesOutOfRange) {
               "focus_distance");
   expectError(lens + R"("f_number":2,"focus_distance":2,"blades":2})", ErrorCode::OutOfRange,
               "blades");
+  expectError(lens + R"("f_number":2,"focus_distance":2,"sensor_width_mm":0.5,"sensor_height_mm":24})",
+              ErrorCode::OutOfRange, "sensor_width_mm");
+  expectError(lens + R"("f_number":2,"focus_distance":2,"sensor_width_mm":36,"sensor_height_mm":1e9})",
+              ErrorCode::OutOfRange, "sensor_height_mm");
+  expectError(lens + R"("f_number":2,"focus_distance":2,"sensor_width_mm":36})", ErrorCode::BadField,
+              "sensor_height_mm");
+  expectError(lens + R"("f_number":2,"focus_distance":2,"sensor_height_mm":"24"})",
+              ErrorCode::BadField, "sensor_height_mm");
   expectError(lens + R"("f_number":2,"focus_distance":2,"blades":17})", ErrorCode::OutOfRange,
               "blades");
   expectError(R"({"type":"focus_at","seq":1,"x":-1,"y":0})", ErrorCode::OutOfRange, "x");
@@ -206,16 +219,23 @@ TEST(ServerMessages, WelcomeAndErrorFollowTheSchemas) {
   SceneCamera suggested{"suggested"};
   suggested.focusDistance = 2.5f;
   welcome.cameras.push_back(suggested);
+  welcome.viewport = {640, 360};
   nlohmann::json w = nlohmann::json::parse(welcomeMessage(welcome));
+  // 50 mm on full frame at 16:9: 36 x 20.25 mm, 2 atan(18 / 50) by 2 atan(10.125 / 50).
+  EXPECT_NEAR(w["fov_x_deg"].get<double>(), 39.598, 1e-3);
+  EXPECT_NEAR(w["fov_y_deg"].get<double>(), 22.895, 1e-3);
+  EXPECT_NEAR(w["scene"]["cameras"][0]["fov_y_deg"].get<double>(), glm::degrees(0.7), 1e-4)
+      << "the scene camera's own, for the client to frame it on its sensor";
   EXPECT_EQ(w["type"], "welcome");
   EXPECT_EQ(w["limits"]["max_unacked_frames"], 2);
   EXPECT_EQ(w["scene"]["cameras"][0]["name"], "main");
   EXPECT_FALSE(w["scene"]["cameras"][0].contains("focus_distance")) << "none known";
   EXPECT_EQ(w["scene"]["cameras"][1]["focus_distance"], 2.5);
-  // A scene camera less its name and focus is a valid camera message.
+  // A scene camera less its name, focus and field of view (the lens's) is a valid camera message.
   nlohmann::json sceneCamera = w["scene"]["cameras"][1];
   sceneCamera.erase("name");
   sceneCamera.erase("focus_distance");
+  sceneCamera.erase("fov_y_deg");
   sceneCamera["type"] = "camera";
   sceneCamera["seq"] = 1;
   EXPECT_TRUE(parse(sceneCamera.dump()).ok()) << sceneCamera.dump();

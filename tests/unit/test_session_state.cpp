@@ -32,7 +32,7 @@ CameraMessage camera(uint32_t seq, float x) {
   return c;
 }
 
-std::optional<float> noFocus(const Camera&, Viewport, float, float) { return std::nullopt; }
+std::optional<float> noFocus(const Camera&, const Lens&, Viewport, float, float) { return std::nullopt; }
 
 // The server wrote the frame, then the client acked it.
 std::optional<ProtocolError> sentAndAcked(SessionState& s, uint32_t frame, Clock::time_point t) {
@@ -180,7 +180,7 @@ TEST(SessionState, MaxFpsSpacesFrames) {
 TEST(SessionState, FocusAtSetsTheFocusAndPullsSmoothly) {
   SessionState s(defaults(RenderMode::PostProcess), {64, 48});
   Viewport seen;
-  auto pick = [&](const Camera&, Viewport viewport, float x, float y) -> std::optional<float> {
+  auto pick = [&](const Camera&, const Lens&, Viewport viewport, float x, float y) -> std::optional<float> {
     seen = viewport;
     return x + y;
   };
