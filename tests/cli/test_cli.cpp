@@ -74,6 +74,43 @@ TEST(Cli, BadRenderInputIsAOneLineErrorWithExitCode2) {
   expectUsageError("render --full-mask " + kOut, "--mode hybrid");
 }
 
+TEST(Cli, BadLensInputIsAOneLineError) {
+  for (const char* bad : {"huge", "36", "36x", "x24", "36x0.5", "400x24", "36x24x2"})
+    expectUsageError(std::string("render --sensor '") + bad + "' " + kOut,
+                     "--sensor must be WxH in millimetres");
+  expectUsageError("render --sensor bogus " + kOut, "full-frame, super35, aps-c, aps-c-canon, mft");
+  expectUsageError("bench --sensor 36by24", "--sensor");
+  expectUsageError("quality --sensor 36by24", "--sensor");
+  expectUsageError("render --focal-length 6000 " + kOut, "--focal-length");
+  // A camera path from when the field of view was the camera's would lose its zoom silently.
+  auto path = tempDir() / "yfov-path.json";
+  std::ofstream(path) << R"({"keyframes": [{"position": [0, 1, 5], "target": [0, 1, 0], "yfov_deg": 30}]})";
+  expectUsageError("render --camera-path " + path.string() + " " + kOut, "focal_length_mm");
+}
+
+// The field of view follows focal length and sensor; without a focal length the scene camera's
+// (builtin:dof: 40 degrees up) is kept. 64x36 is 16:9: 36 x 20.25 mm of a full-frame sensor.
+TEST(Cli, TheLensSetsTheFieldOfView) {
+  auto png = tempDir() / "lens.png";
+  auto lensLine = [&](const std::string& options) {
+    Result r = runHdof("render --scene builtin:dof --size 64x36 --verbose " + options + " --out " +
+                       png.string());
+    EXPECT_EQ(r.exitCode, 0) << r.stderrText;
+    size_t at = r.stderrText.find("lens: ");
+    return at == std::string::npos ? r.stderrText : r.stderrText.substr(at);
+  };
+  // 20.25 / (2 tan 20 degrees) = 27.8 mm, which sees 2 atan(18 / 27.818) = 65.8 degrees across.
+  EXPECT_NE(lensLine("").find("focal_length_mm=27.8 "), std::string::npos) << lensLine("");
+  EXPECT_NE(lensLine("").find("fov_deg=65.8x40.0"), std::string::npos) << lensLine("");
+  // 50 mm: 2 atan(18 / 50) = 39.6 across, 2 atan(10.125 / 50) = 22.9 up.
+  EXPECT_NE(lensLine("--focal-length 50").find("sensor_mm=36x24 fov_deg=39.6x22.9"),
+            std::string::npos);
+  // The same lens on Micro Four Thirds (17.3 mm across): 2 atan(8.65 / 50) = 19.6 across.
+  EXPECT_NE(lensLine("--focal-length 50 --sensor mft").find("sensor_mm=17.3x13 fov_deg=19.6x11.1"),
+            std::string::npos)
+      << lensLine("--focal-length 50 --sensor mft");
+}
+
 TEST(Cli, BadQualityInputIsAOneLineError) {
   expectUsageError("quality --modes pinhole,blurry", "blurry");
   expectUsageError("quality --modes reference", "reference");
@@ -181,7 +218,7 @@ TEST(Cli, HelpListsCommandsAndOptions) {
   Result render = runHdof("render --help");
   EXPECT_EQ(render.exitCode, 0);
   for (const char* option : {"--scene", "--camera", "--mode", "--spp", "--size", "--focal-length",
-                             "--f-number", "--focus-distance", "--no-pixel-jitter", "--out"})
+                             "--sensor", "--f-number", "--focus-distance", "--no-pixel-jitter", "--out"})
     EXPECT_NE(render.stdoutText.find(option), std::string::npos) << option;
   EXPECT_EQ(runHdof("").exitCode, 2);
 }

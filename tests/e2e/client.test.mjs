@@ -1,8 +1,9 @@
 // The browser client in headless Chromium against a daemon this test starts on a free port:
 // the page connects, a frame appears, a drag changes the picture, a click focuses, a scene camera
-// is picked with its focus, the view selector lists the daemon's debug views and shows one with
-// the hybrid, the mode selector changes the mode the frames report, a snapshot downloads, and
-// screenshots are saved.
+// is picked with its focus, a longer focal length zooms in (the field of view follows), the depth
+// of field limits shown agree with the thin-lens formulas, the view selector lists the daemon's
+// debug views and shows one with the hybrid, the in-focus zone overlay tints the picture, the mode
+// selector changes the mode the frames report, a snapshot downloads, and screenshots are saved.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
 
@@ -64,6 +65,26 @@ function thumbnail(page) {
     return grey;
   });
 }
+
+// How green the shown frame is: the mean of green less the mean of red and blue, over its pixels.
+function greenness(page) {
+  return page.evaluate(() => {
+    const source = document.querySelector('#pane-main canvas');
+    const canvas = Object.assign(document.createElement('canvas'), { width: 96, height: 54 });
+    const g = canvas.getContext('2d', { willReadFrequently: true });
+    g.drawImage(source, 0, 0, canvas.width, canvas.height);
+    const { data } = g.getImageData(0, 0, canvas.width, canvas.height);
+    let sum = 0;
+    for (let i = 0; i < data.length; i += 4) sum += data[i + 1] - (data[i] + data[i + 2]) / 2;
+    return sum / (data.length / 4);
+  });
+}
+
+// The lens in the URL: focal length (mm), f-number, focus (m), blades, sensor width and height.
+const lensInUrl = (page) => page.evaluate(() =>
+  new URLSearchParams(location.hash.slice(1)).get('lens').split(',').map(Number));
+// A distance as the panel shows it: "2.31 m", "12.5 m" or "∞".
+const metres = (shown) => (shown === '∞' ? Infinity : Number.parseFloat(shown));
 
 const meanDifference = (a, b) => a.reduce((sum, v, i) => sum + Math.abs(v - b[i]), 0) / a.length;
 const text = (page, selector) => page.locator(selector).textContent();
@@ -139,6 +160,54 @@ async function run(page, url) {
     'the picked camera stays shown');
   step('a scene camera picked: shown in the picker, its focus 4.00 m applied');
 
+  // A longer lens zooms in: the picture changes and the field of view the frames report follows
+  // 2 atan(extent / 2f), where a 16:9 pane takes 36 x 20.25 mm of the full-frame sensor.
+  const wide = await thumbnail(page);
+  const fovBefore = await text(page, '#fov');
+  const [focalBefore] = await lensInUrl(page);
+  await page.locator('input[name="focal_length_mm"]').fill('600'); // 8 mm * 50^0.6 = 84 mm
+  await page.waitForFunction((f) => !location.hash.includes(`lens=${f},`), focalBefore);
+  const [focal, fNumber, focus, , sensorWidth, sensorHeight] = await lensInUrl(page);
+  assert.ok(focal > focalBefore, `the focal length grew: ${focalBefore} -> ${focal} mm`);
+  assert.deepEqual([sensorWidth, sensorHeight], [36, 24], 'full frame by default');
+  await page.waitForFunction((old) => document.querySelector('#fov').textContent !== old, fovBefore,
+    { timeout: TIMEOUT_MS });
+  await stillFrame(page);
+  const fovShown = (await text(page, '#fov')).split('×').map((v) => Number.parseFloat(v));
+  const fovDeg = (extent) => (360 / Math.PI) * Math.atan(extent / (2 * focal));
+  assert.ok(Math.abs(fovShown[0] - fovDeg(36)) < 0.06 && Math.abs(fovShown[1] - fovDeg(20.25)) < 0.06,
+    `field of view ${fovShown} follows ${focal} mm: ${fovDeg(36).toFixed(2)} x ${fovDeg(20.25).toFixed(2)}`);
+  difference = meanDifference(wide, await thumbnail(page));
+  assert.ok(difference >= 4, `a longer lens changes the framing (mean difference ${difference.toFixed(2)})`);
+  await page.screenshot({ path: path.join(artifacts, 'client-lens-long.png') });
+  step(`focal length ${focalBefore} -> ${focal} mm: field of view ${fovBefore} -> ` +
+    `${fovShown.join(' x ')} (screenshot ${path.join(artifacts, 'client-lens-long.png')})`);
+
+  // The depth of field shown is the thin-lens formulas' with c = diagonal / 1500.
+  const c = Math.hypot(sensorWidth, sensorHeight) / 1500 / 1000;
+  const f = focal / 1000;
+  const hyperfocal = (f * f) / (fNumber * c) + f;
+  const expected = {
+    near: (focus * (hyperfocal - f)) / (hyperfocal + focus - 2 * f),
+    far: focus < hyperfocal ? (focus * (hyperfocal - f)) / (hyperfocal - focus) : Infinity,
+    hyperfocal,
+  };
+  for (const [name, value] of Object.entries(expected)) {
+    const shown = metres(await text(page, `#dof-${name}`));
+    const tolerance = value === Infinity ? 0 : value < 10 ? 0.006 : 0.06; // the shown rounding
+    assert.ok(shown === value || Math.abs(shown - value) <= tolerance,
+      `${name}: shown ${shown} m, the formula gives ${value} m (${focal} mm f/${fNumber} at ${focus} m)`);
+  }
+  assert.match(await text(page, '#dof-coc'), /^0\.0288 mm \(sensor diagonal \/ 1500\)$/);
+  const scale = await page.evaluate(() => ['.dof-zone', '.dof-focus'].map((s) =>
+    document.querySelector(s).getBoundingClientRect()));
+  assert.ok(scale[1].left >= scale[0].left && scale[1].left <= scale[0].right,
+    'the focus marker sits inside the in-focus zone on the distance scale');
+  await page.locator('.dof-scale').scrollIntoViewIfNeeded();
+  await page.screenshot({ path: path.join(artifacts, 'client-dof.png') });
+  step(`depth of field near ${expected.near.toFixed(2)} m, far ${expected.far.toFixed(2)} m, ` +
+    `hyperfocal ${hyperfocal.toFixed(1)} m as shown (screenshot ${path.join(artifacts, 'client-dof.png')})`);
+
   // The view selector is the welcome's views (asked here of a session of its own), and it is
   // only for the hybrid.
   const views = await page.evaluate(() => new Promise((resolve, reject) => {
@@ -176,6 +245,26 @@ async function run(page, url) {
   await page.screenshot({ path: path.join(artifacts, 'client-view.png') });
   step(`the view selector lists ${views.join(', ')}; ${views[1]} shown ` +
     `(screenshot ${path.join(artifacts, 'client-view.png')})`);
+
+  // The in-focus zone overlay: the daemon's focus_zone view tints the finished image green.
+  await page.selectOption('#view', views[0]);
+  await page.waitForFunction(() => !location.hash.includes('view='));
+  await stillFrame(page);
+  const plainGreen = await greenness(page);
+  await page.locator('#focus-zone').scrollIntoViewIfNeeded();
+  await page.check('#focus-zone');
+  await page.waitForFunction(() => location.hash.includes('view=focus_zone'));
+  assert.equal(await page.inputValue('#view'), 'focus_zone', 'the view selector follows');
+  let green = plainGreen;
+  for (const deadline = Date.now() + TIMEOUT_MS; green < plainGreen + 5 && Date.now() < deadline;) {
+    await page.waitForTimeout(250);
+    green = await greenness(page);
+  }
+  assert.ok(green >= plainGreen + 5, `the in-focus zone is tinted green (${plainGreen.toFixed(1)} -> ${green.toFixed(1)})`);
+  await page.screenshot({ path: path.join(artifacts, 'client-focus-zone.png') });
+  step(`in-focus zone overlay: greenness ${plainGreen.toFixed(1)} -> ${green.toFixed(1)} ` +
+    `(screenshot ${path.join(artifacts, 'client-focus-zone.png')})`);
+  await page.uncheck('#focus-zone');
 
   await page.selectOption('#mode', 'pinhole');
   await page.waitForFunction(
