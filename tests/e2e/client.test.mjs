@@ -52,32 +52,31 @@ async function stopDaemon(daemon) {
   clearTimeout(timer);
 }
 
-// The shown frame as a 48x27 grey thumbnail, to tell pictures apart.
-function thumbnail(page) {
-  return page.evaluate(() => {
+// The shown frame scaled to width x height: RGBA bytes.
+function framePixels(page, width, height) {
+  return page.evaluate(([w, h]) => {
     const source = document.querySelector('#pane-main canvas');
-    const canvas = Object.assign(document.createElement('canvas'), { width: 48, height: 27 });
+    const canvas = Object.assign(document.createElement('canvas'), { width: w, height: h });
     const g = canvas.getContext('2d', { willReadFrequently: true });
-    g.drawImage(source, 0, 0, canvas.width, canvas.height);
-    const { data } = g.getImageData(0, 0, canvas.width, canvas.height);
-    const grey = [];
-    for (let i = 0; i < data.length; i += 4) grey.push((data[i] + data[i + 1] + data[i + 2]) / 3);
-    return grey;
-  });
+    g.drawImage(source, 0, 0, w, h);
+    return [...g.getImageData(0, 0, w, h).data];
+  }, [width, height]);
+}
+
+// The shown frame as a 48x27 grey thumbnail, to tell pictures apart.
+async function thumbnail(page) {
+  const data = await framePixels(page, 48, 27);
+  const grey = [];
+  for (let i = 0; i < data.length; i += 4) grey.push((data[i] + data[i + 1] + data[i + 2]) / 3);
+  return grey;
 }
 
 // How green the shown frame is: the mean of green less the mean of red and blue, over its pixels.
-function greenness(page) {
-  return page.evaluate(() => {
-    const source = document.querySelector('#pane-main canvas');
-    const canvas = Object.assign(document.createElement('canvas'), { width: 96, height: 54 });
-    const g = canvas.getContext('2d', { willReadFrequently: true });
-    g.drawImage(source, 0, 0, canvas.width, canvas.height);
-    const { data } = g.getImageData(0, 0, canvas.width, canvas.height);
-    let sum = 0;
-    for (let i = 0; i < data.length; i += 4) sum += data[i + 1] - (data[i] + data[i + 2]) / 2;
-    return sum / (data.length / 4);
-  });
+async function greenness(page) {
+  const data = await framePixels(page, 96, 54);
+  let sum = 0;
+  for (let i = 0; i < data.length; i += 4) sum += data[i + 1] - (data[i] + data[i + 2]) / 2;
+  return sum / (data.length / 4);
 }
 
 // The lens in the URL: focal length (mm), f-number, focus (m), blades, sensor width and height.
