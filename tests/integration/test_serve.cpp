@@ -230,8 +230,9 @@ TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
               moving->stats["gpu_ms"].get<double>(), scale, scaled->header.width,
               scaled->header.height);
   // 240 frames/s leave 4.2 ms a frame: a moving frame that took longer must have been scaled.
-  if (moving->stats["gpu_ms"].get<double>() > 1000.0 / 240.0)
+  if (moving->stats["gpu_ms"].get<double>() > 1000.0 / 240.0) {
     EXPECT_LT(scale, 1.0) << "the moving frame took " << moving->stats["gpu_ms"] << " ms";
+  }
 
   std::optional<Frame> still;
   for (int i = 0; i < 10; ++i) {  // moving frames still on their way, then the resting one
