@@ -4,8 +4,8 @@
 
 namespace hdof {
 
-std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, uint32_t width,
-                                     uint32_t height, float x, float y) {
+std::optional<SurfaceHit> surfaceUnderPixel(const Bvh& bvh, const Camera& camera, uint32_t width,
+                                            uint32_t height, float x, float y) {
   // The ray through the pixel's centre, as the raster samples it (see makeFrameUniforms).
   float tanHalfY = std::tan(camera.yfov * 0.5f);
   float tanHalfX = tanHalfY * float(width) / float(height);
@@ -17,7 +17,15 @@ std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, uint3
   glm::vec3 direction = camera.forward + right * (u * tanHalfX) - camera.up * (v * tanHalfY);
   auto hit = intersect(bvh, camera.position, direction, camera.znear);
   if (!hit) return std::nullopt;
-  return hit->t;
+  glm::vec3 point = camera.position + direction * hit->t;
+  return SurfaceHit{point, hit->t, glm::length(point - camera.position)};
+}
+
+std::optional<float> depthUnderPixel(const Bvh& bvh, const Camera& camera, uint32_t width,
+                                     uint32_t height, float x, float y) {
+  auto hit = surfaceUnderPixel(bvh, camera, width, height, x, y);
+  if (!hit) return std::nullopt;
+  return hit->depth;
 }
 
 }  // namespace hdof
