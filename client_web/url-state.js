@@ -1,5 +1,8 @@
 // The view in the URL's hash, so that a link shares it:
 //   #camera=px,py,pz,tx,ty,tz,fov&lens=focal_mm,f_number,focus_m,blades&mode=M&view=V&compare=M
+//   &saved=NAME:px,py,pz,tx,ty,tz,fov;NAME:... (the named saved views, see views.js)
+
+import { decodeSavedViews, encodeSavedViews } from './views.js';
 
 const round = (v) => Number(v.toPrecision(5));
 const numbers = (text, count) => {
@@ -15,10 +18,12 @@ export function readUrlState(hash = location.hash) {
   const l = numbers(params.get('lens'), 4);
   if (l) state.lens = { focal_length_mm: l[0], f_number: l[1], focus_distance: l[2], blades: l[3] };
   for (const key of ['mode', 'view', 'compare']) if (params.get(key)) state[key] = params.get(key);
+  const saved = decodeSavedViews(params.get('saved'));
+  if (saved.length) state.saved = saved;
   return state;
 }
 
-export function urlHash({ camera, lens, mode, view, compare }) {
+export function urlHash({ camera, lens, mode, view, compare, saved }) {
   const params = new URLSearchParams();
   if (camera)
     params.set('camera', [...camera.position, ...camera.target, camera.fov_y_deg].map(round).join(','));
@@ -28,7 +33,8 @@ export function urlHash({ camera, lens, mode, view, compare }) {
   if (mode) params.set('mode', mode);
   if (view) params.set('view', view); // null: the finished image
   if (compare) params.set('compare', compare);
-  return '#' + params.toString().replaceAll('%2C', ',');
+  if (saved?.length) params.set('saved', encodeSavedViews(saved));
+  return '#' + params.toString().replaceAll('%2C', ',').replaceAll('%3A', ':').replaceAll('%3B', ';');
 }
 
 // Replaces the hash at most every delayMs (history.replaceState: no history entry per drag step).
