@@ -53,6 +53,8 @@ export class CameraControls {
   down(event) {
     const view = this.options.getView();
     if (!view) return;
+    // Keys go to the page again (undo, fly), not to the control used last.
+    if (document.activeElement instanceof HTMLElement) document.activeElement.blur();
     this.element.setPointerCapture(event.pointerId);
     this.pointers.set(event.pointerId, { x: event.clientX, y: event.clientY });
     event.preventDefault();
@@ -244,8 +246,10 @@ export class FlyKeys {
   }
 }
 
-// Keys typed into a field are the field's.
+// Keys typed into a field are the field's (letters pick a select's options too); sliders, boxes
+// and buttons leave them to the page.
 export function isTyping(element) {
-  return element instanceof HTMLElement &&
-    (element.isContentEditable || ['INPUT', 'SELECT', 'TEXTAREA'].includes(element.tagName));
+  if (!(element instanceof HTMLElement)) return false;
+  if (element.isContentEditable || element.tagName === 'TEXTAREA' || element.tagName === 'SELECT') return true;
+  return element.tagName === 'INPUT' && !['range', 'checkbox', 'radio', 'button', 'file'].includes(element.type);
 }

@@ -87,8 +87,10 @@ export class ViewPanel {
   }
 
   key(event) {
-    if (isTyping(event.target) || event.altKey) return;
     const command = event.ctrlKey || event.metaKey;
+    // A select has no undo of its own: Ctrl+Z there is the camera's.
+    const select = event.target instanceof HTMLSelectElement;
+    if ((isTyping(event.target) && !(command && select)) || event.altKey) return;
     const key = event.key.toLowerCase();
     if (command && key === 'z') this[event.shiftKey ? 'redo' : 'undo']();
     else if (command && key === 'y') this.redo();
