@@ -16,6 +16,7 @@ export class Pane {
   constructor(element, handlers) {
     this.element = element;
     this.canvas = element.querySelector('canvas');
+    this.canvas.title = document.querySelector('#controls > .hint')?.textContent ?? '';
     this.handlers = handlers;
     this.limits = { max_width: 1920, max_height: 1080 };
     this.aspect = null; // width over height the picture keeps (the shot's), or null: the pane's
