@@ -1,13 +1,19 @@
-// The browser client: wires the panes (render sessions), camera controls, lens panel, stats and
-// the URL together. The state here is what the user chose; the panes send it to their sessions.
+// The browser client: wires the panes (render sessions), camera controls and panel, lens panel,
+// feedback and the URL together. The state here is what the user chose; the panes send it to
+// their sessions.
 
-import { CameraControls, dollyRange } from './camera.js';
+import { CameraControls, FlyKeys } from './controls.js';
+import {
+  bannerText, copyLink, explainDisabled, labelResolutions, showControlError, showLegend, showNote,
+  statusText,
+} from './feedback.js';
 import { describeLens, LensPanel } from './lens.js';
 import { fieldOfViewDeg, focalLengthForVerticalFov, sensorOf } from './optics.js';
 import { Pane } from './pane.js';
 import * as protocol from './protocol.js';
-import { StatsOverlay } from './stats.js';
+import { pictureState } from './stats.js';
 import { readUrlState, urlWriter } from './url-state.js';
+import { ViewPanel } from './view-panel.js';
 
 const $ = (selector) => document.querySelector(selector);
 const fromUrl = readUrlState();
@@ -18,12 +24,15 @@ const state = {
   mode: fromUrl.mode ?? null, // null: the daemon's default, learnt from the first frame
   view: fromUrl.view ?? null, // a debug view of the welcome's; null: the finished image
   compare: fromUrl.compare ?? null, // the split view's second mode, null when not split
-  settings: {},
+  saved: fromUrl.saved ?? [], // named saved views {name, position, target, up, focal_length_mm}
+  settings: {}, // the settings in force (the daemon's defaults for those not here)
 };
 let welcome = null;
 // The split view's second mode at first, when the daemon has it: the post-process alone, to set
 // beside the hybrid.
 const COMPARE_MODE = 'postprocess';
+const RASTER_MODES = ['pinhole', 'postprocess']; // they trace no rays
+const SNAPSHOT_TIMEOUT_MS = 120000;
 let seq = 0;
 let lensSeq = 0; // the newest lens or focus_at input: frames before it show an older focus
 let stillQuality = 0; // the highest JPEG quality seen: the daemon's still quality
@@ -38,7 +47,6 @@ const aspect = () => {
 };
 const FOCUS_ZONE_VIEW = 'focus_zone';
 
-const stats = new StatsOverlay($('#stats'));
 const lensPanel = new LensPanel($('#lens'), (lens) => {
   state.lens = lens;
   queue('lens');
@@ -47,10 +55,7 @@ const handlers = {
   onStatus: showStatus,
   onWelcome: welcomed,
   onShown: shown,
-  onServerError: (error, pane) => {
-    // A rejected message leaves the session live; the status says why.
-    if (pane.connection.live) showStatus({ state: 'live', message: error.message }, pane);
-  },
+  onServerError: serverError,
   onTokenNeeded: (message) => {
     $('#token-form').hidden = false;
     $('#token-form output').textContent = message;
@@ -60,6 +65,16 @@ const handlers = {
 const primary = new Pane($('#pane-main'), handlers);
 const secondary = new Pane($('#pane-compare'), handlers);
 const panes = [primary, secondary];
+// A view, as undo and saved views keep it: the camera and the focal length (the framing).
+const viewPanel = new ViewPanel({
+  getView: () => state.camera && { ...state.camera, focal_length_mm: state.lens.focal_length_mm },
+  setView: applyView,
+  sceneCamera,
+  home: () => applyView({ ...strip(welcome.camera), focal_length_mm: welcome.lens.focal_length_mm }),
+  saved: state.saved,
+  onSavedChange: () => writeUrl(state),
+  showError: (message) => showControlError('camera', message),
+});
 
 // Sends one input to every active pane with a new seq; returns the seq.
 function sendInput(build) {
@@ -73,10 +88,33 @@ function modeMessage(s, pane) {
   return protocol.mode(s, pane === primary ? state.mode : state.compare, state.view);
 }
 
+function setCamera(camera) {
+  if (!camera) return;
+  state.camera = camera;
+  queue('camera');
+}
+
+function applyView({ focal_length_mm: focalLength, ...camera }) {
+  setCamera(camera);
+  if (focalLength && focalLength !== state.lens.focal_length_mm) {
+    state.lens = { ...state.lens, focal_length_mm: focalLength };
+    lensPanel.set(state.lens);
+    queue('lens');
+  }
+}
+
+// The camera as the navigation maths take it: with the vertical field of view, the lens's at the
+// main pane's aspect; and back.
+const navigationView = () => state.camera && {
+  ...state.camera,
+  fov_y_deg: fieldOfViewDeg(state.lens.focal_length_mm, sensorOf(state.lens), aspect()).y,
+};
+const setNavigationView = ({ fov_y_deg: _, ...camera }) => setCamera(camera);
+
 // Camera and lens changes coalesce to one message per animation frame.
 const queued = new Set();
 function queue(kind) {
-  if (kind === 'camera') $('#cameras').value = ''; // the view is no longer a scene camera's
+  if (kind === 'camera') viewPanel.viewMoved(); // the view is no longer a scene camera's
   if (queued.size === 0) requestAnimationFrame(flush);
   queued.add(kind);
 }
@@ -103,12 +141,11 @@ function welcomed(message, pane) {
   if (pane === secondary || state.mode) pane.send(modeMessage(++seq, pane));
   if (Object.keys(state.settings).length) pane.send(protocol.settings(state.settings));
   sessionStorage.setItem('hdof-token', pane.connection.token);
+  if (pane === primary) labelResolutions($('#scale'), pane.viewport());
 }
 
 function fillControls(message) {
-  const cameras = $('#cameras');
-  for (const [index, camera] of message.scene.cameras.entries())
-    cameras.add(new Option(camera.name || `camera ${index + 1}`, index));
+  viewPanel.setSceneCameras(message.scene.cameras);
   for (const select of [$('#mode'), $('#compare-mode')])
     for (const name of message.modes) select.add(new Option(name, name));
   if (state.mode) $('#mode').value = state.mode;
@@ -119,10 +156,8 @@ function fillControls(message) {
   for (const name of views) $('#view').add(new Option(name, name));
   if (!stages.includes(state.view)) state.view = null;
   $('#view').value = state.view ?? finished;
-  const rays = $('#rays');
-  rays.max = message.limits.max_rays_per_pixel;
-  rays.disabled = rays.max <= 1;
-  updateViewControl();
+  $('#rays').max = message.limits.max_rays_per_pixel;
+  updateModeControls();
   if (state.compare) {
     $('#compare-mode').value = state.compare;
     setSplit(true);
@@ -130,16 +165,18 @@ function fillControls(message) {
 }
 
 function shown(frame, pane) {
-  if (pane !== primary) return;
+  pane.framesShown = (pane.framesShown ?? 0) + 1;
+  if (pane.framesShown === 1) showStatus(pane.connectionStatus, pane);
+  if (pane !== primary) return void pane.stats.shown(frame);
   let latency;
   if (inputSentAt.has(frame.seq)) latency = performance.now() - inputSentAt.get(frame.seq);
   for (const s of inputSentAt.keys()) if (s <= frame.seq) inputSentAt.delete(s);
-  stats.shown(frame, latency);
+  pane.stats.shown(frame, latency);
   stillQuality = Math.max(stillQuality, frame.stats.jpeg_quality ?? 0);
   if (!state.mode) {
     state.mode = frame.stats.mode;
     $('#mode').value = state.mode;
-    updateViewControl();
+    updateModeControls();
   }
   // A focus pull moves the focus on the server: follow it, unless a newer lens is on its way.
   const focus = frame.stats.focus_distance;
@@ -152,24 +189,63 @@ function shown(frame, pane) {
   if (frame.stats.fov_y_deg) lensPanel.showFieldOfView({ x: frame.stats.fov_x_deg, y: frame.stats.fov_y_deg });
 }
 
-function showStatus({ state: connectionState, message }, pane) {
-  const element = pane === primary ? $('#status') : $('#compare-status');
-  element.dataset.state = connectionState;
-  element.textContent = message ? `${connectionState}: ${message}` : connectionState;
+function showStatus(status, pane) {
+  if (status.state === 'connecting') pane.framesShown = 0;
+  pane.connectionStatus = status;
+  pane.showBanner(bannerText(status));
+  if (pane !== primary) return;
+  const { state: shownState, text } = statusText(status, pane.framesShown ?? 0);
+  $('#status').dataset.state = shownState;
+  $('#status').textContent = text;
 }
 
-function updateViewControl() {
-  $('#view').disabled = state.mode !== protocol.DEBUG_VIEW_MODE;
-  const zone = $('#focus-zone');
-  zone.disabled = $('#view').disabled || !welcome?.views?.includes(FOCUS_ZONE_VIEW);
-  zone.checked = state.view === FOCUS_ZONE_VIEW;
+// The daemon rejected a message: the error goes next to the control that sent it, and that
+// control returns to the value in force.
+const SETTING_CONTROLS = { rays_per_pixel: 'rays', resolution_scale: 'scale' };
+const FIELD_CONTROLS = {
+  ...SETTING_CONTROLS, mode: 'mode', view: 'view',
+  position: 'camera', target: 'camera', up: 'camera', x: 'camera', y: 'camera',
+};
+function serverError(error, pane) {
+  const control = FIELD_CONTROLS[error.field] ?? 'general';
+  showControlError(control, error.message);
+  if (error.field in SETTING_CONTROLS) {
+    const key = error.field;
+    const before = settingsBefore[key];
+    if (before === undefined) delete state.settings[key];
+    else state.settings[key] = before;
+    $(`#${SETTING_CONTROLS[key]}`).value = String(before ?? 1); // both default to 1
+  }
+  if (error.field === 'mode' || error.field === 'view') {
+    $('#mode').value = state.mode = pane.viewer.shown?.stats.mode ?? state.mode;
+    updateModeControls();
+  }
 }
 
+function updateModeControls() {
+  const hybrid = state.mode === protocol.DEBUG_VIEW_MODE;
+  explainDisabled($('#view'), hybrid ? null : `Debug views show the ${protocol.DEBUG_VIEW_MODE}'s stages: choose the ${protocol.DEBUG_VIEW_MODE} mode`);
+  showLegend(hybrid ? state.view : null);
+  explainDisabled($('#focus-zone'), !hybrid
+    ? `The in-focus zone is a debug view of the ${protocol.DEBUG_VIEW_MODE}: choose the ${protocol.DEBUG_VIEW_MODE} mode`
+    : welcome?.views?.includes(FOCUS_ZONE_VIEW) ? null : 'This daemon has no in-focus zone view');
+  $('#focus-zone').checked = state.view === FOCUS_ZONE_VIEW;
+  const max = Number($('#rays').max || 1);
+  explainDisabled($('#rays'), RASTER_MODES.includes(state.mode)
+    ? `${state.mode} traces no rays: rays per pixel apply to raytrace and hybrid`
+    : max <= 1 ? 'the daemon allows 1 ray per pixel (max_rays_per_pixel)' : null);
+  explainDisabled($('#compare-mode'), state.compare ? null : 'Tick Compare to split the view and pick the second pane\'s mode');
+}
+
+// The split view keeps the shot's framing: both panes show the whole picture the single pane
+// showed, letterboxed, rather than each cropping it to a narrow portrait.
 function setSplit(on) {
   $('#split').checked = on;
   state.compare = on ? $('#compare-mode').value : null;
+  const shot = $('#panes').clientWidth / Math.max(1, $('#panes').clientHeight);
+  for (const pane of panes) pane.aspect = on ? shot : null;
   secondary.element.hidden = !on;
-  $('#compare-mode').disabled = !on;
+  updateModeControls();
   if (!on) secondary.close();
   // The layout changes first; then both panes ask for their new size.
   requestAnimationFrame(() => {
@@ -179,11 +255,26 @@ function setSplit(on) {
   writeUrl(state);
 }
 
+// Asks for JPEG quality 100 and waits for a converged frame at that quality (the daemon sends a
+// resting view once more when the still quality changes), showing the refinement meanwhile;
+// then saves it as PNG and restores the still quality.
 async function snapshot() {
   const button = $('#snapshot');
+  const label = button.textContent;
   button.disabled = true;
+  const before = stillQuality;
+  primary.send(protocol.settings({ jpeg_quality_still: 100 }));
   try {
-    await fullQualityFrame(primary);
+    const deadline = performance.now() + SNAPSHOT_TIMEOUT_MS;
+    for (;;) {
+      const stats = primary.viewer.shown?.stats;
+      const picture = stats ? pictureState(stats) : 'waiting';
+      if (stats?.jpeg_quality === 100 && picture === 'converged') break;
+      if (performance.now() > deadline)
+        return showNote(`No converged frame in ${SNAPSHOT_TIMEOUT_MS / 1000} s: try again once the picture says converged`, true);
+      button.textContent = `Snapshot: ${picture}…`;
+      await new Promise((resolve) => setTimeout(resolve, 100));
+    }
     const blob = await primary.viewer.png();
     const lens = describeLens(state.lens);
     const name = `hdof-${state.mode}-${lens.f_number.replace('/', '')}-` +
@@ -191,58 +282,21 @@ async function snapshot() {
     const link = Object.assign(document.createElement('a'), { href: URL.createObjectURL(blob), download: name });
     link.click();
     setTimeout(() => URL.revokeObjectURL(link.href), 10000);
+    showNote(`Saved ${name}`);
   } finally {
+    // The welcome does not say the daemon's still quality; 90 is its default.
+    primary.send(protocol.settings({ jpeg_quality_still: before || 90 }));
+    stillQuality = before;
+    button.textContent = label;
     button.disabled = false;
   }
 }
 
-// Asks for JPEG quality 100 once the view rests and waits until such a frame is shown and no
-// other follows (raytrace and hybrid accumulate); then restores the still quality.
-async function fullQualityFrame(pane) {
-  const before = stillQuality;
-  pane.send(protocol.settings({ jpeg_quality_still: 100 }));
-  const deadline = performance.now() + 30000;
-  let nudged = false;
-  while (performance.now() < deadline) {
-    await new Promise((resolve) => setTimeout(resolve, 100));
-    const quiet = performance.now() - pane.lastShownAt;
-    if (pane.viewer.shown?.stats.jpeg_quality === 100 && quiet > 700) break;
-    if (!nudged && quiet > 1000) { // the view had settled: render it again
-      nudged = true;
-      pane.send(protocol.camera(++seq, state.camera));
-    }
-  }
-  // The welcome does not say the daemon's still quality; 90 is its default.
-  pane.send(protocol.settings({ jpeg_quality_still: before || 90 }));
-  stillQuality = before;
-}
-
-// Controls.
-for (const pane of panes) {
-  new CameraControls(pane.canvas, {
-    // Panning needs the vertical field of view: the lens's at the main pane's aspect.
-    getView: () => state.camera && {
-      ...state.camera,
-      fov_y_deg: fieldOfViewDeg(state.lens.focal_length_mm, sensorOf(state.lens), aspect()).y,
-    },
-    setView: (view) => { state.camera = view; queue('camera'); },
-    getRange: () => dollyRange(welcome?.scene.bounds),
-    onClick: (event) => {
-      const point = pane.viewer.imagePoint(event);
-      if (!point || !state.lens) return;
-      lensSeq = sendInput((s, target) => {
-        const { x, y } = target.viewportPixel(point); // the panes' sizes may differ by a pixel
-        return protocol.focusAt(s, x, y, lensPanel.pullMs);
-      });
-    },
-  });
-}
-// A scene camera stays shown in the picker until the view moves. It brings its framing: the focal
-// length that gives its field of view on the current sensor. Its own focus distance where the
-// scene has one, else (glTF cameras carry none), as the CLI does, the surface at the image centre.
-$('#cameras').addEventListener('change', (event) => {
-  if (event.target.value === '') return;
-  const { name, focus_distance: focus, fov_y_deg: fov, ...camera } = welcome.scene.cameras[event.target.value];
+// A scene camera brings its framing: the focal length that gives its field of view on the current
+// sensor. Its own focus distance where the scene has one, else (glTF cameras carry none), as the
+// CLI does, the surface at the image centre.
+function sceneCamera(index) {
+  const { name, focus_distance: focus, fov_y_deg: fov, ...camera } = welcome.scene.cameras[index];
   state.camera = camera;
   sendInput((s) => protocol.camera(s, state.camera));
   state.lens = {
@@ -259,21 +313,55 @@ $('#cameras').addEventListener('change', (event) => {
     });
   }
   writeUrl(state);
-});
-$('#home').addEventListener('click', () => {
-  state.camera = strip(welcome.camera);
-  queue('camera');
+}
+
+// Controls.
+for (const pane of panes) {
+  new CameraControls(pane.canvas, pane.marker, {
+    getView: navigationView,
+    setView: setNavigationView,
+    // The newest camera goes first: the daemon picks in the camera it has.
+    pick: (at) => { flush(); return pane.pick(at); },
+    imagePoint: (event) => pane.viewer.imagePoint(event),
+    aspect: () => pane.canvas.width / Math.max(1, pane.canvas.height),
+    bounds: () => welcome?.scene.bounds,
+    focusDistance: () => state.lens?.focus_distance ?? 5,
+    flying: () => viewPanel.flying,
+    onMoveStart: () => viewPanel.moveStarts(),
+    onClick: (event) => {
+      const point = pane.viewer.imagePoint(event);
+      if (!point || !state.lens) return;
+      if (!pane.connection.live) { // said, not dropped silently
+        pane.banner.classList.remove('flash');
+        void pane.banner.offsetWidth; // restarts the animation
+        pane.banner.classList.add('flash');
+        return showControlError('general', 'Not connected: the click to focus was not sent');
+      }
+      lensSeq = sendInput((s, target) => {
+        const { x, y } = target.viewportPixel(point); // the panes' sizes may differ by a pixel
+        return protocol.focusAt(s, x, y, lensPanel.pullMs);
+      });
+    },
+  });
+}
+new FlyKeys(window, {
+  active: () => viewPanel.flying,
+  getView: navigationView,
+  setView: setNavigationView,
+  bounds: () => welcome?.scene.bounds,
+  onMoveStart: () => viewPanel.moveStarts(),
 });
 $('#mode').addEventListener('change', (event) => {
   state.mode = event.target.value;
-  updateViewControl();
+  showControlError('mode', null);
+  updateModeControls();
   for (const pane of panes) if (pane.active) pane.send(modeMessage(++seq, pane));
   writeUrl(state);
 });
 function setView(view) {
   state.view = view;
   $('#view').value = view ?? welcome.views[0];
-  updateViewControl();
+  updateModeControls();
   primary.send(modeMessage(++seq, primary));
   writeUrl(state);
 }
@@ -286,15 +374,18 @@ $('#compare-mode').addEventListener('change', (event) => {
   secondary.send(modeMessage(++seq, secondary));
   writeUrl(state);
 });
-for (const [id, key] of [['#rays', 'rays_per_pixel'], ['#scale', 'resolution_scale']]) {
-  $(id).addEventListener('change', (event) => {
+const settingsBefore = {}; // the value in force before the newest change of each setting
+for (const [key, id] of Object.entries(SETTING_CONTROLS)) {
+  $(`#${id}`).addEventListener('change', (event) => {
+    settingsBefore[key] = state.settings[key];
     state.settings[key] = Number(event.target.value);
+    showControlError(id, null);
     for (const pane of panes) if (pane.active) pane.send(protocol.settings({ [key]: state.settings[key] }));
   });
 }
 $('#snapshot').addEventListener('click', snapshot);
-$('#share').addEventListener('click', () => navigator.clipboard?.writeText(location.href));
-$('#stats-toggle').addEventListener('click', () => { $('#stats').hidden = !$('#stats').hidden; });
+$('#share').addEventListener('click', () => copyLink(location.href));
+$('#stats-toggle').addEventListener('click', () => document.body.classList.toggle('no-stats'));
 $('#token-form').addEventListener('submit', (event) => {
   event.preventDefault();
   $('#token-form').hidden = true;
@@ -307,7 +398,11 @@ $('#token-form').addEventListener('submit', (event) => {
 let resizeTimer = 0;
 new ResizeObserver(() => {
   clearTimeout(resizeTimer);
-  resizeTimer = setTimeout(() => { for (const pane of panes) if (pane.active) pane.resize(); }, 250);
+  resizeTimer = setTimeout(() => {
+    if (state.compare) for (const pane of panes) pane.aspect = $('#panes').clientWidth / Math.max(1, $('#panes').clientHeight);
+    for (const pane of panes) if (pane.active) pane.resize();
+    labelResolutions($('#scale'), primary.viewport());
+  }, 250);
 }).observe($('#panes'));
 
 primary.connection.token = secondary.connection.token = sessionStorage.getItem('hdof-token') ?? '';

@@ -1,39 +1,92 @@
-// Orbit, pan and dolly about the camera's target, with mouse, wheel and touch.
-// A view is the camera message's form: {position, target, up, fov_y_deg}.
+// Camera maths for moving through a room: orbit about a picked point, pan, dolly toward a point
+// without passing it, mouse look and fly steps. Pure functions of a view, the camera message's
+// form {position, target, up, fov_y_deg}; `target` only gives the view direction (and the
+// distance the camera message carries), so moves keep the target's offset from the camera.
 
 const WORLD_UP = [0, 1, 0];
-const MAX_PITCH = (89 * Math.PI) / 180; // keeps `up` off the view direction
-const ORBIT_RADIANS_PER_PX = 0.006;
-const CLICK_SLOP_PX = 4;
+const MAX_PITCH = (89 * Math.PI) / 180; // keeps the view off straight up or down (up must differ)
+// A full pane width of drag turns the view half way round: a room can be looked over in one drag,
+// and a small drag is a small turn.
+export const ORBIT_RADIANS_PER_PANE = Math.PI;
+// Mouse look turns less: a full pane width is a quarter turn.
+export const LOOK_RADIANS_PER_PANE = Math.PI / 2;
+// One wheel notch moves this share of the way to the point under the cursor.
+export const DOLLY_STEP = 0.2;
+export const WHEEL_NOTCH_PX = 100;
 
-const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
-const length = (a) => Math.hypot(a[0], a[1], a[2]);
-const normalize = (a) => scale(a, 1 / (length(a) || 1));
-const cross = (a, b) => [
+export const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+export const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+export const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
+export const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+export const length = (a) => Math.hypot(a[0], a[1], a[2]);
+export const normalize = (a) => scale(a, 1 / (length(a) || 1));
+export const cross = (a, b) => [
   a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
 
-// Distances the dolly keeps to, from the scene's bounds.
-export function dollyRange(bounds) {
-  const size = bounds ? length(sub(bounds.max, bounds.min)) : 10;
-  return { min: Math.max(1e-3, size * 1e-3), max: Math.max(1, size * 5) };
+// v rotated by `angle` radians about the unit `axis` (Rodrigues).
+function rotate(v, axis, angle) {
+  const c = Math.cos(angle), s = Math.sin(angle);
+  return add(add(scale(v, c), scale(cross(axis, v), s)), scale(axis, dot(axis, v) * (1 - c)));
 }
 
-export function orbit(view, dxPx, dyPx) {
-  const offset = sub(view.position, view.target);
-  const distance = length(offset);
-  const yaw = Math.atan2(offset[0], offset[2]) - dxPx * ORBIT_RADIANS_PER_PX;
-  const pitch = Math.max(-MAX_PITCH, Math.min(MAX_PITCH,
-    Math.asin(offset[1] / distance) + dyPx * ORBIT_RADIANS_PER_PX));
-  const direction = [Math.cos(pitch) * Math.sin(yaw), Math.sin(pitch), Math.cos(pitch) * Math.cos(yaw)];
-  return { ...view, position: add(view.target, scale(direction, distance)), up: WORLD_UP };
+export function forwardOf(view) {
+  return normalize(sub(view.target, view.position));
 }
 
-// Moves camera and target together so that the point under the cursor follows it.
-export function pan(view, dxPx, dyPx, viewportHeightPx) {
-  const forward = sub(view.target, view.position);
-  const distance = length(forward);
+// The scene's size (the diagonal of its bounds, metres): what fly speed and dolly stops scale with.
+export function sceneSize(bounds) {
+  return bounds ? Math.max(1e-3, length(sub(bounds.max, bounds.min))) : 10;
+}
+
+// The closest a dolly comes to the surface it moves toward: a little short of it, so that the
+// surface stays in front of the camera (and its near plane).
+export function dollyStandoff(bounds) {
+  return Math.max(0.05, sceneSize(bounds) * 0.005);
+}
+
+// Metres per second in fly mode: a room's width in a few seconds; Shift is `FLY_FAST` times.
+export function flySpeed(bounds, fast = false) {
+  return (sceneSize(bounds) / 8) * (fast ? FLY_FAST : 1);
+}
+export const FLY_FAST = 4;
+
+// The view turned about `pivot` by a drag of (dxPx, dyPx) in a pane `widthPx` wide: the camera
+// and its target swing round the pivot together, so the pivot stays where it is on screen and
+// its distance to the camera does not change. Dragging right turns the scene to the right, down
+// raises the camera above the pivot. The pitch stops short of straight up or down.
+export function orbitAbout(view, pivot, dxPx, dyPx, widthPx) {
+  const radiansPerPx = ORBIT_RADIANS_PER_PANE / Math.max(1, widthPx);
+  return turnAbout(view, pivot, -dxPx * radiansPerPx, -dyPx * radiansPerPx);
+}
+
+// The view turned in place (mouse look): as orbiting about the camera itself.
+export function look(view, dxPx, dyPx, widthPx) {
+  const radiansPerPx = LOOK_RADIANS_PER_PANE / Math.max(1, widthPx);
+  return turnAbout(view, view.position, -dxPx * radiansPerPx, -dyPx * radiansPerPx);
+}
+
+// Yaw about the world's up axis through `pivot`, then pitch (the view direction's elevation
+// changes by `pitch`, clamped) about the camera's horizontal right axis through it.
+function turnAbout(view, pivot, yaw, pitch) {
+  const around = (point, axis, angle) => add(pivot, rotate(sub(point, pivot), axis, angle));
+  let position = around(view.position, WORLD_UP, yaw);
+  let target = around(view.target, WORLD_UP, yaw);
+  const forward = normalize(sub(target, position));
+  const elevation = Math.asin(Math.max(-1, Math.min(1, forward[1])));
+  const turn = Math.max(-MAX_PITCH, Math.min(MAX_PITCH, elevation + pitch)) - elevation;
+  const right = cross(forward, WORLD_UP);
+  if (length(right) > 1e-9 && turn !== 0) {
+    const axis = normalize(right);
+    position = around(position, axis, turn);
+    target = around(target, axis, turn);
+  }
+  return { ...view, position, target, up: WORLD_UP };
+}
+
+// Moves camera and target together so that the point under the cursor follows it; `distance` is
+// the depth of what is being dragged (the pivot's), which moves with the cursor exactly.
+export function pan(view, dxPx, dyPx, viewportHeightPx, distance = length(sub(view.target, view.position))) {
+  const forward = forwardOf(view);
   const right = normalize(cross(forward, view.up));
   const up = normalize(cross(right, forward));
   const metresPerPx = (2 * distance * Math.tan((view.fov_y_deg * Math.PI) / 360)) / viewportHeightPx;
@@ -41,90 +94,39 @@ export function pan(view, dxPx, dyPx, viewportHeightPx) {
   return { ...view, position: add(view.position, move), target: add(view.target, move) };
 }
 
-// factor < 1 moves closer to the target.
-export function dolly(view, factor, range) {
-  const offset = sub(view.position, view.target);
-  const distance = Math.max(range.min, Math.min(range.max, length(offset) * factor));
-  return { ...view, position: add(view.target, scale(normalize(offset), distance)) };
+// `notches` wheel notches toward `point` (negative: away from it): each covers DOLLY_STEP of the
+// distance left, so steps shrink near a surface, and the camera stops `standoff` short of the
+// point, never passing it. The view direction is kept: the point stays under the cursor.
+export function dollyToward(view, point, notches, standoff) {
+  const offset = sub(point, view.position);
+  const distance = length(offset);
+  if (distance === 0) return view;
+  let wanted = distance * (1 - DOLLY_STEP) ** notches;
+  if (notches > 0) wanted = Math.min(distance, Math.max(standoff, wanted));
+  const move = scale(offset, (distance - wanted) / distance);
+  return { ...view, position: add(view.position, move), target: add(view.target, move) };
 }
 
-// Pointer input on an element: drag orbits; right/middle/shift drag pans; wheel and pinch dolly;
-// a two-finger drag pans; a click (no drag) calls onClick(event).
-export class CameraControls {
-  // getView(), setView(view), getRange(), onClick(pointerEvent)
-  constructor(element, { getView, setView, getRange, onClick }) {
-    this.element = element;
-    this.callbacks = { getView, setView, getRange, onClick };
-    this.pointers = new Map(); // pointerId -> {x, y}
-    this.gesture = null; // {kind, travel, button, shift}
-    element.addEventListener('pointerdown', (e) => this.down(e));
-    element.addEventListener('pointermove', (e) => this.move(e));
-    element.addEventListener('pointerup', (e) => this.up(e));
-    element.addEventListener('pointercancel', (e) => this.up(e, true));
-    element.addEventListener('wheel', (e) => this.wheel(e), { passive: false });
-    element.addEventListener('contextmenu', (e) => e.preventDefault());
-  }
+// The unit ray from the camera through a point of the image given as fractions ({u, v}, from the
+// top left) of an image of this aspect (width over height).
+export function rayThrough(view, { u, v }, aspect) {
+  const forward = forwardOf(view);
+  const right = normalize(cross(forward, view.up));
+  const up = cross(right, forward);
+  const tanY = Math.tan((view.fov_y_deg * Math.PI) / 360);
+  const x = (2 * u - 1) * tanY * aspect;
+  const y = (1 - 2 * v) * tanY;
+  return normalize(add(forward, add(scale(right, x), scale(up, y))));
+}
 
-  down(event) {
-    this.element.setPointerCapture(event.pointerId);
-    this.pointers.set(event.pointerId, { x: event.clientX, y: event.clientY });
-    const panning = event.button === 1 || event.button === 2 || event.shiftKey;
-    if (this.pointers.size === 1) this.gesture = { kind: panning ? 'pan' : 'orbit', travel: 0, button: event.button };
-    else this.gesture = { kind: 'pinch', travel: Infinity }; // never a click
-    event.preventDefault();
-  }
-
-  move(event) {
-    const last = this.pointers.get(event.pointerId);
-    if (!last || !this.gesture) return;
-    const before = this.centroid();
-    const spreadBefore = this.spread();
-    last.x = event.clientX;
-    last.y = event.clientY;
-    const after = this.centroid();
-    const dx = after.x - before.x;
-    const dy = after.y - before.y;
-    this.gesture.travel += Math.hypot(dx, dy);
-    if (this.gesture.travel < CLICK_SLOP_PX) return;
-    const { getView, setView, getRange } = this.callbacks;
-    let view = getView();
-    if (!view) return;
-    const height = this.element.getBoundingClientRect().height || 1;
-    if (this.gesture.kind === 'orbit') view = orbit(view, dx, dy);
-    else view = pan(view, dx, dy, height);
-    if (this.gesture.kind === 'pinch' && spreadBefore > 0)
-      view = dolly(view, spreadBefore / Math.max(1, this.spread()), getRange());
-    setView(view);
-  }
-
-  up(event, cancelled = false) {
-    if (!this.pointers.delete(event.pointerId)) return;
-    const gesture = this.gesture;
-    if (this.pointers.size === 0) this.gesture = null;
-    if (!cancelled && gesture && gesture.kind === 'orbit' && gesture.button === 0 &&
-        gesture.travel < CLICK_SLOP_PX)
-      this.callbacks.onClick(event);
-  }
-
-  wheel(event) {
-    event.preventDefault();
-    const view = this.callbacks.getView();
-    if (!view) return;
-    const pixels = event.deltaMode === WheelEvent.DOM_DELTA_LINE ? event.deltaY * 16 : event.deltaY;
-    this.callbacks.setView(dolly(view, Math.exp(pixels * 0.001), this.callbacks.getRange()));
-  }
-
-  centroid() {
-    let x = 0, y = 0;
-    for (const p of this.pointers.values()) { x += p.x; y += p.y; }
-    return { x: x / this.pointers.size, y: y / this.pointers.size };
-  }
-
-  spread() {
-    if (this.pointers.size < 2) return 0;
-    const c = this.centroid();
-    let sum = 0;
-    for (const p of this.pointers.values()) sum += Math.hypot(p.x - c.x, p.y - c.y);
-    return sum / this.pointers.size;
-  }
+// One fly step of `seconds` at `speed` m/s: `move` is {forward, right, up}, each -1, 0 or 1 (held
+// keys). Forward follows the view direction (looking down and flying forward descends); up is
+// the world's.
+export function flyStep(view, move, seconds, speed) {
+  const forward = forwardOf(view);
+  const right = normalize(cross(forward, WORLD_UP));
+  let direction = add(add(scale(forward, move.forward), scale(right, move.right)), scale(WORLD_UP, move.up));
+  if (length(direction) === 0) return view;
+  direction = scale(normalize(direction), speed * seconds);
+  return { ...view, position: add(view.position, direction), target: add(view.target, direction) };
 }

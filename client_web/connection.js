@@ -7,8 +7,9 @@ const BACKOFF_FIRST_MS = 500;
 const BACKOFF_MAX_MS = 10000;
 
 export class Connection {
-  // handlers: onStatus({state, message}), onWelcome(welcome), onFrame(frame),
-  // onServerError(error), onTokenNeeded(message). state: connecting, live, reconnecting, error.
+  // handlers: onStatus({state, message, attempt}), onWelcome(welcome), onFrame(frame),
+  // onPicked(picked), onServerError(error), onTokenNeeded(message). state: connecting, live,
+  // reconnecting (attempt: the reconnection attempts so far), error.
   constructor(url, handlers) {
     this.url = url;
     this.handlers = handlers;
@@ -72,7 +73,7 @@ export class Connection {
   }
 
   status(state, message = '') {
-    this.handlers.onStatus?.({ state, message });
+    this.handlers.onStatus?.({ state, message, attempt: this.attempt });
   }
 
   receive(socket, data) {
@@ -95,6 +96,8 @@ export class Connection {
       this.lastError = null;
       this.status('live');
       this.handlers.onWelcome?.(message);
+    } else if (message.type === 'picked') {
+      this.handlers.onPicked?.(message);
     } else if (message.type === 'error') {
       this.lastError = message;
       // Before the welcome an error is about the hello (a close may follow).
@@ -119,7 +122,7 @@ export class Connection {
     }
     const delay = Math.min(BACKOFF_MAX_MS, BACKOFF_FIRST_MS * 2 ** this.attempt++);
     const why = event.code === protocol.CLOSE.GOING_AWAY ? 'the daemon stopped' : reason;
-    this.status('reconnecting', `${why}; retrying in ${(delay / 1000).toFixed(1)} s`);
+    this.status('reconnecting', `${why}; reconnect attempt ${this.attempt} in ${(delay / 1000).toFixed(1)} s`);
     this.retryTimer = setTimeout(() => this.open(this.viewport), delay);
   }
 }

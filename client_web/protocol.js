@@ -53,6 +53,11 @@ export function focusAt(seq, x, y, pullMs) {
   return { type: 'focus_at', seq, x, y, pull_ms: pullMs };
 }
 
+// Asks where the surface under viewport pixel (x, y) is; the daemon answers `picked` with `id`.
+export function pick(id, x, y) {
+  return { type: 'pick', id, x, y };
+}
+
 // view: one of the welcome's views, or null for the finished image (the daemon's default). It is
 // sent only with DEBUG_VIEW_MODE: the other modes have no stages to show.
 export function mode(seq, name, view) {

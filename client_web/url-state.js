@@ -1,9 +1,11 @@
 // The view in the URL's hash, so that a link shares it:
 //   #camera=px,py,pz,tx,ty,tz&lens=focal_mm,f_number,focus_m,blades,sensor_w_mm,sensor_h_mm
-//   &mode=M&view=V&compare=M
+//   &mode=M&view=V&compare=M&saved=NAME:px,py,pz,tx,ty,tz,focal_mm;NAME:... (the named saved
+//   views, see views.js)
 // The field of view follows from the lens (focal length and sensor) and the pane's aspect.
 
 import { FULL_FRAME, sensorOf } from './optics.js';
+import { decodeSavedViews, encodeSavedViews } from './views.js';
 
 const round = (v) => Number(v.toPrecision(5));
 const numbers = (text, count) => {
@@ -28,10 +30,12 @@ export function readUrlState(hash = location.hash) {
     };
   }
   for (const key of ['mode', 'view', 'compare']) if (params.get(key)) state[key] = params.get(key);
+  const saved = decodeSavedViews(params.get('saved'));
+  if (saved.length) state.saved = saved;
   return state;
 }
 
-export function urlHash({ camera, lens, mode, view, compare }) {
+export function urlHash({ camera, lens, mode, view, compare, saved }) {
   const params = new URLSearchParams();
   if (camera)
     params.set('camera', [...camera.position, ...camera.target].map(round).join(','));
@@ -43,7 +47,8 @@ export function urlHash({ camera, lens, mode, view, compare }) {
   if (mode) params.set('mode', mode);
   if (view) params.set('view', view); // null: the finished image
   if (compare) params.set('compare', compare);
-  return '#' + params.toString().replaceAll('%2C', ',');
+  if (saved?.length) params.set('saved', encodeSavedViews(saved));
+  return '#' + params.toString().replaceAll('%2C', ',').replaceAll('%3A', ':').replaceAll('%3B', ';');
 }
 
 // Replaces the hash at most every delayMs (history.replaceState: no history entry per drag step).

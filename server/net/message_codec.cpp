@@ -187,6 +187,14 @@ FocusAtMessage parseFocusAt(const Fields& f) {
   return focus;
 }
 
+PickMessage parsePick(const Fields& f) {
+  PickMessage pick;
+  pick.id = static_cast<uint32_t>(f.integer("id", 0, 0xffffffffu));
+  pick.x = static_cast<float>(f.number("x", 0.0, 1e6));
+  pick.y = static_cast<float>(f.number("y", 0.0, 1e6));
+  return pick;
+}
+
 ModeMessage parseMode(const Fields& f) {
   ModeMessage mode;
   mode.seq = f.seq();
@@ -250,6 +258,7 @@ ClientMessage parseObject(const json& object, const Limits& limits) {
                              "sensor_height_mm"}));
   if (name == "focus_at")
     return parseFocusAt(Fields(object, "", {"type", "seq", "x", "y", "pull_ms"}));
+  if (name == "pick") return parsePick(Fields(object, "", {"type", "id", "x", "y"}));
   if (name == "mode") return parseMode(Fields(object, "", {"type", "seq", "mode", "view"}));
   if (name == "settings")
     return parseSettings(Fields(object, "",
@@ -262,7 +271,7 @@ ClientMessage parseObject(const json& object, const Limits& limits) {
   std::string shown = name.size() > 64 ? name.substr(0, 64) + "..." : name;
   reject(
       ErrorCode::UnknownType, "type",
-      "unknown message type '" + shown + "' (hello, camera, lens, focus_at, mode, settings, ack)");
+      "unknown message type '" + shown + "' (hello, camera, lens, focus_at, pick, mode, settings, ack)");
 }
 
 }  // namespace

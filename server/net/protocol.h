@@ -67,6 +67,13 @@ struct FocusAtMessage {
   float pullMs = 0.0f;
 };
 
+// Asks where the surface under a viewport pixel is, in the session's newest camera; answered by
+// `picked` with the same id (the client's orbit pivot and dolly target). Changes nothing.
+struct PickMessage {
+  uint32_t id = 0;
+  float x = 0.0f, y = 0.0f;  // viewport pixels; checked against the session's viewport
+};
+
 struct ModeMessage {
   uint32_t seq = 0;
   RenderMode mode = RenderMode::Hybrid;
@@ -86,7 +93,7 @@ struct AckMessage {
 };
 
 using ClientMessage = std::variant<HelloMessage, CameraMessage, LensMessage, FocusAtMessage,
-                                   ModeMessage, SettingsMessage, AckMessage>;
+                                   ModeMessage, SettingsMessage, AckMessage, PickMessage>;
 
 enum class ErrorCode { BadJson, UnknownType, BadField, OutOfRange, NotAllowed, Busy };
 const char* errorCodeName(ErrorCode code);

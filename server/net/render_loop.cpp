@@ -1,6 +1,7 @@
 #include "net/render_loop.h"
 
 #include "gpu/check.h"
+#include "net/server_messages.h"
 #include "render/focus_pick.h"
 
 #include <malloc.h>
@@ -77,6 +78,25 @@ std::optional<ProtocolError> RenderLoop::apply(uint64_t session, const ClientMes
   }
   wake_.notify_all();
   return error;
+}
+
+std::variant<std::string, ProtocolError> RenderLoop::pick(uint64_t session,
+                                                          const PickMessage& pick) {
+  Camera camera;
+  Lens lens;
+  Viewport viewport;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = sessions_.find(session);
+    if (it == sessions_.end() || it->second.removed) return pickedMessage(pick.id, std::nullopt);
+    if (auto error = it->second.state.checkPixel("pick", pick.x, pick.y)) return *error;
+    camera = it->second.state.camera();
+    lens = it->second.state.lens();
+    viewport = it->second.state.viewport();
+  }
+  // The BVH is never written after start-up: the render thread may read it at the same time.
+  return pickedMessage(pick.id, surfaceUnderPixel(bvh_, camera, lens, viewport.width,
+                                                  viewport.height, pick.x, pick.y));
 }
 
 void RenderLoop::frameDropped(uint64_t session, uint32_t frame) {

@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <variant>
 
 namespace hdof::net {
 
@@ -68,6 +69,9 @@ class RenderLoop {
   void addSession(uint64_t session, const SessionDefaults& defaults, Viewport viewport);
   std::optional<ProtocolError> apply(uint64_t session, const ClientMessage& message,
                                      Clock::time_point received);
+  // Where the surface under a pick's pixel is, in the session's newest camera (a CPU ray on the
+  // BVH: the caller's thread, no frame): the `picked` message's text, or an error.
+  std::variant<std::string, ProtocolError> pick(uint64_t session, const PickMessage& pick);
   void frameDropped(uint64_t session, uint32_t frame);
   // The server wrote the frame to the session's connection (acks up to it become valid).
   void frameSent(uint64_t session, uint32_t frame);

@@ -110,6 +110,16 @@ std::string errorMessage(const ProtocolError& error) {
   return message.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
+std::string pickedMessage(uint32_t id, const std::optional<SurfaceHit>& hit) {
+  json message = {{"type", "picked"}, {"id", id}, {"hit", hit.has_value()}};
+  if (hit) {
+    message["point"] = array(hit->point);
+    message["depth"] = hit->depth;
+    message["distance"] = hit->distance;
+  }
+  return message.dump();
+}
+
 std::string utf8Prefix(std::string_view text, size_t maxBytes) {
   std::string out;
   for (size_t i = 0; i < text.size();) {
@@ -154,6 +164,8 @@ std::string frameStatsJson(const FrameStatsMessage& stats) {
                   {"bytes", stats.bytes},
                   {"jpeg_quality", stats.jpegQuality},
                   {"accumulated_frames", stats.accumulatedFrames},
+                  {"accumulation_target", stats.accumulationTarget},
+                  {"moving", stats.moving},
                   {"focus_distance", stats.focusDistance},
                   {"render_scale", stats.renderScale},
                   {"fov_x_deg", stats.fovDeg.x},

@@ -4,6 +4,7 @@
 
 #include "net/protocol.h"
 #include "render/camera.h"
+#include "render/focus_pick.h"
 
 #include <cstdint>
 #include <optional>
@@ -29,6 +30,8 @@ struct Welcome {
 // not be UTF-8: it is sent with U+FFFD in place of the bad bytes, never an exception.
 std::string welcomeMessage(const Welcome& welcome);
 std::string errorMessage(const ProtocolError& error);
+// The answer to `pick` id: the surface's point and distances, or `hit` false on the background.
+std::string pickedMessage(uint32_t id, const std::optional<SurfaceHit>& hit);
 
 // Valid UTF-8 (bad bytes become '?') of at most maxBytes, cut between characters: a close
 // frame's reason (RFC 6455: 123 bytes), which browsers require to be UTF-8.
@@ -62,6 +65,8 @@ struct FrameStatsMessage {
   std::optional<double> inputToSendMs;  // only frames that apply a new input
   int jpegQuality = 0;
   uint32_t accumulatedFrames = 0;
+  uint32_t accumulationTarget = 0;  // frames of a still view, after which it has converged
+  bool moving = false;              // the view changed within still_after_ms
   float focusDistance = 0.0f;
   float renderScale = 1.0f;  // the frame's size over the viewport's
   glm::vec2 fovDeg{0.0f};    // the field of view in force (horizontal, vertical)

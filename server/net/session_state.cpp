@@ -80,6 +80,16 @@ Viewport SessionState::renderSize() const {
   return {std::min(size.width, viewport_.width), std::min(size.height, viewport_.height)};
 }
 
+std::optional<ProtocolError> SessionState::checkPixel(const char* what, float x, float y) const {
+  if (x < float(viewport_.width) && y < float(viewport_.height)) return std::nullopt;
+  return ProtocolError{ErrorCode::OutOfRange,
+                       std::string(what) + " pixel (" + std::to_string(int(x)) + ", " +
+                           std::to_string(int(y)) + ") is outside the " +
+                           std::to_string(viewport_.width) + "x" +
+                           std::to_string(viewport_.height) + " viewport",
+                       x >= float(viewport_.width) ? "x" : "y"};
+}
+
 std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
                                                  Clock::time_point received) {
   auto input = [&](uint32_t seq) {
@@ -102,13 +112,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     lastMotion_ = received;
     input(lens->seq);
   } else if (const auto* focus = std::get_if<FocusAtMessage>(&message)) {
-    if (focus->x >= float(viewport_.width) || focus->y >= float(viewport_.height))
-      return ProtocolError{ErrorCode::OutOfRange,
-                           "focus_at pixel (" + std::to_string(int(focus->x)) + ", " +
-                               std::to_string(int(focus->y)) + ") is outside the " +
-                               std::to_string(viewport_.width) + "x" +
-                               std::to_string(viewport_.height) + " viewport",
-                           focus->x >= float(viewport_.width) ? "x" : "y"};
+    if (auto error = checkPixel("focus_at", focus->x, focus->y)) return error;
     focusAt_ = *focus;
     input(focus->seq);
   } else if (const auto* mode = std::get_if<ModeMessage>(&message)) {
@@ -126,6 +130,9 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     if (stream_.raysPerPixel != before.raysPerPixel ||
         stream_.resolutionScale != before.resolutionScale)
       changed_ = true;
+    // A resting view is shown again at its new quality (a snapshot asks for 100), continuing its
+    // accumulation rather than starting it over.
+    if (stream_.jpegQualityStill != before.jpegQualityStill) requalify_ = true;
   } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
     // Only what was written to the connection: an ack of a frame the client cannot have seen
     // would open the window for frames that pile up in the daemon.
@@ -135,6 +142,8 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     // Acknowledges every earlier frame that was sent too; one still on its way (frames can
     // finish encoding out of order) stays in flight until it is sent and acked.
     std::erase_if(inFlight_, [&](const InFlight& f) { return f.sent && f.frame <= ack->frame; });
+  } else if (const auto* pick = std::get_if<PickMessage>(&message)) {
+    return checkPixel("pick", pick->x, pick->y);  // answered by the server; it changes nothing
   } else {
     return ProtocolError{ErrorCode::NotAllowed, "this session has already said hello", "type"};
   }
@@ -145,7 +154,7 @@ std::optional<Clock::time_point> SessionState::nextFrameDue() const {
   if (sendBlocked_ || inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
   Clock::time_point earliest = lastFrameStart_ + msDuration(1000.0 / stream_.maxFps);
   bool converged = accumulated_ >= framesOfAStillView();
-  if (changed_ || pull_ || !converged) return earliest;
+  if (changed_ || pull_ || !converged || requalify_) return earliest;
   // The view has come to rest after frames at moving quality: one at still quality.
   if (lastFrameMoving_) return std::max(earliest, lastMotion_ + msDuration(defaults_.stillAfterMs));
   return std::nullopt;
@@ -190,13 +199,15 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   plan.inputReceived = newestInput_;
   plan.jpegQuality = moving ? stream_.jpegQualityMoving : stream_.jpegQualityStill;
   plan.accumulatedFrames = ++accumulated_;
+  plan.accumulationTarget = framesOfAStillView();
+  plan.moving = moving;
   plan.renderScale = float(size.width) / float(viewport_.width);
 
   inFlight_.push_back({plan.frame, false});
   lastFrameStart_ = now;
   lastFrameMoving_ = moving;
   lastFramePixels_ = size.width * size.height;
-  changed_ = resetHistory_ = cameraPending_ = lensPending_ = false;
+  changed_ = resetHistory_ = cameraPending_ = lensPending_ = requalify_ = false;
   newestInput_.reset();
   return plan;
 }

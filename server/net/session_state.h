@@ -47,6 +47,8 @@ struct FramePlan {
   std::optional<Clock::time_point> inputReceived;  // when the newest input it applies came in
   int jpegQuality = 90;
   uint32_t accumulatedFrames = 0;  // frames of this view so far, this one included
+  uint32_t accumulationTarget = 0;  // frames of a still view, after which it has converged
+  bool moving = false;              // the view changed within still_after_ms
   float renderScale = 1.0f;  // the frame's size over the viewport's (resolution_scale, and lower
                              // while moving to hold target_fps)
 };
@@ -84,6 +86,11 @@ class SessionState {
   // A resting view's size: the viewport's times resolution_scale.
   Viewport renderSize() const;
   const Lens& lens() const { return lens_; }
+  // The newest camera received (what a pick looks through) and the session's viewport.
+  const Camera& camera() const { return camera_; }
+  Viewport viewport() const { return viewport_; }
+  // An error naming the field when pixel (x, y) of a `what` message is outside the viewport.
+  std::optional<ProtocolError> checkPixel(const char* what, float x, float y) const;
 
  private:
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
@@ -104,6 +111,7 @@ class SessionState {
 
   bool changed_ = true;  // something the image depends on changed since the last frame
   bool resetHistory_ = false;
+  bool requalify_ = false;  // jpeg_quality_still changed: one more frame of a resting view
   bool cameraPending_ = false, lensPending_ = false;  // not yet rendered: a newer one coalesces
   std::optional<FocusAtMessage> focusAt_;
   struct FocusPull {

@@ -537,6 +537,15 @@ int WsServer::handleMessage(lws* wsi, Connection& c, const std::string& text) {
     return 0;
   }
   if (!c.welcomed) return closeNow(wsi, c, kCloseProtocolError, "the first message must be hello");
+  if (const auto* pick = std::get_if<PickMessage>(&*parsed.message)) {
+    auto answer = renderLoop_.pick(c.id, *pick);
+    // As errors: a client that picks without reading gets no more than the queue's worth.
+    if (const auto* text = std::get_if<std::string>(&answer)) {
+      if (c.textOut.size() < kMaxQueuedText) sendText(c, *text);
+    } else
+      sendError(c, std::get<ProtocolError>(answer));
+    return 0;
+  }
   if (auto error = renderLoop_.apply(c.id, *parsed.message, received)) sendError(c, *error);
   return 0;
 }
@@ -653,6 +662,8 @@ int WsServer::writeFrame(lws* wsi, Connection& c) {
   if (frame.plan.inputReceived) stats.inputToSendMs = msBetween(*frame.plan.inputReceived, now);
   stats.jpegQuality = frame.plan.jpegQuality;
   stats.accumulatedFrames = frame.plan.accumulatedFrames;
+  stats.accumulationTarget = frame.plan.accumulationTarget;
+  stats.moving = frame.plan.moving;
   stats.focusDistance = request.lens.focusDistance;
   stats.renderScale = frame.plan.renderScale;
   stats.fovDeg = fieldOfViewDeg(request.lens, request.settings.width, request.settings.height);

@@ -9,6 +9,15 @@
 
 namespace hdof {
 
+// The closest surface through the centre of a pixel: where it is, how far along the camera's
+// forward axis (its view depth) and along the ray.
+struct SurfaceHit {
+  glm::vec3 point{0.0f};
+  float depth = 0.0f, distance = 0.0f;
+};
+std::optional<SurfaceHit> surfaceUnderPixel(const Bvh& bvh, const Camera& camera, const Lens& lens,
+                                            uint32_t width, uint32_t height, float x, float y);
+
 // The view depth (metres along the camera's forward axis, as the thin lens's focus distance is
 // measured) of the closest surface through the centre of pixel (x, y) of a width x height image,
 // or nothing where the ray meets no surface.

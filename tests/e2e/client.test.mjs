@@ -1,15 +1,20 @@
 // The browser client in headless Chromium against a daemon this test starts on a free port:
-// the page connects, a frame appears, a drag changes the picture, a click focuses, a scene camera
-// is picked with its focus, a longer focal length zooms in (the field of view follows), the depth
-// of field limits shown agree with the thin-lens formulas, the view selector lists the daemon's
-// debug views and shows one with the hybrid, the in-focus zone overlay tints the picture, the mode
-// selector changes the mode the frames report, a snapshot downloads, and screenshots are saved.
+// the page waits for its first frame, a frame appears, a drag changes the picture, a click
+// focuses, a scene camera is picked with its focus, an orbit that starts on a near object keeps
+// its distance to it (inside the scene) while the pane says it is moving at a lower resolution
+// and full size returns at rest, the wheel dollies toward a surface and stops short of it, undo
+// and redo restore views, fly mode moves, the split panes keep the shot's framing, a longer focal
+// length zooms in (the field of view follows), the depth of field limits shown agree with the
+// thin-lens formulas, the view selector lists the daemon's debug views and shows one with the
+// hybrid, the in-focus zone overlay tints the picture, the mode selector changes the mode the
+// frames report, a snapshot downloads, and a stopped daemon dims the picture under a banner.
+// Screenshots of each state go to the artifact directory.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
 
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
-import { mkdirSync } from 'node:fs';
+import { mkdirSync, writeFileSync } from 'node:fs';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
 
@@ -25,7 +30,11 @@ const WINDOW = { width: 480 + 272, height: 270 };
 function startDaemon() {
   const env = { ...process.env };
   delete env.HDOF_TOKEN;
-  const daemon = spawn(hdof, ['serve', '--port', '0', '--scene', 'builtin:dof'], {
+  // A frame rate no moving frame here holds at full size: a drag renders smaller, whatever the
+  // machine's speed, so the interactive scale shows.
+  const config = path.join(artifacts, 'e2e-serve.json');
+  writeFileSync(config, JSON.stringify({ target_fps: 240 }));
+  const daemon = spawn(hdof, ['serve', '--port', '0', '--scene', 'builtin:dof', '--config', config], {
     env, stdio: ['ignore', 'pipe', 'pipe'],
   });
   let log = '';
@@ -55,7 +64,7 @@ async function stopDaemon(daemon) {
 // The shown frame scaled to width x height: RGBA bytes.
 function framePixels(page, width, height) {
   return page.evaluate(([w, h]) => {
-    const source = document.querySelector('#pane-main canvas');
+    const source = document.querySelector('#pane-main > canvas');
     const canvas = Object.assign(document.createElement('canvas'), { width: w, height: h });
     const g = canvas.getContext('2d', { willReadFrequently: true });
     g.drawImage(source, 0, 0, w, h);
@@ -87,31 +96,103 @@ const metres = (shown) => (shown === '∞' ? Infinity : Number.parseFloat(shown)
 
 const meanDifference = (a, b) => a.reduce((sum, v, i) => sum + Math.abs(v - b[i]), 0) / a.length;
 const text = (page, selector) => page.locator(selector).textContent();
-const statsField = (page, name) => text(page, `#stats [data-field="${name}"]`);
+const statsField = (page, name, pane = 'main') => text(page, `#pane-${pane} [data-field="${name}"]`);
 
 // Waits until the view has come to rest: a frame at the still JPEG quality is shown.
 async function stillFrame(page) {
   await page.waitForFunction(
-    () => /\(q(9\d|100)\)/.test(document.querySelector('[data-field="bytes"]').textContent),
+    () => /quality (9\d|100)$/.test(document.querySelector('#pane-main [data-field="bytes"]').textContent),
     null, { timeout: TIMEOUT_MS });
 }
 
+async function screenshot(page, name) {
+  await page.screenshot({ path: path.join(artifacts, name) });
+  return path.join(artifacts, name);
+}
+
+// The camera the URL holds (5 significant digits).
+async function urlCamera(page) {
+  const hash = await page.evaluate(() => location.hash);
+  const c = new URLSearchParams(hash.slice(1)).get('camera').split(',').map(Number);
+  return { position: c.slice(0, 3), target: c.slice(3, 6), up: [0, 1, 0] };
+}
+const between = (a, b) => Math.hypot(...a.map((v, i) => v - b[i]));
+
+// Waits until the URL's camera has moved away from `from`; returns it.
+async function cameraMoved(page, from) {
+  for (const deadline = Date.now() + TIMEOUT_MS; Date.now() < deadline;) {
+    const camera = await urlCamera(page);
+    if (between(camera.position, from.position) > 1e-3) return camera;
+    await page.waitForTimeout(100);
+  }
+  throw new Error('the camera in the URL did not move');
+}
+
+// Asks the daemon, in a session of the test's own with this camera and the page's lens (which
+// makes the field of view), what is under each pixel: {bounds, answers: [picked]}.
+async function pickPixels(page, camera, viewport, pixels) {
+  const [focal, fNumber, focus, , sensorWidth, sensorHeight] = await lensInUrl(page);
+  const lens = {
+    type: 'lens', seq: 1, focal_length_mm: focal, f_number: fNumber, focus_distance: focus,
+    sensor_width_mm: sensorWidth, sensor_height_mm: sensorHeight,
+  };
+  return page.evaluate(({ camera, lens, viewport, pixels }) => new Promise((resolve, reject) => {
+    const socket = new WebSocket(`ws://${location.host}/session`, 'hdof.v1');
+    const answers = [];
+    let bounds;
+    // One at a time: the daemon keeps few unread answers for a session.
+    const ask = (id) => socket.send(JSON.stringify({ type: 'pick', id, x: pixels[id][0], y: pixels[id][1] }));
+    socket.onopen = () => socket.send(JSON.stringify({ type: 'hello', protocol: 1, viewport }));
+    socket.onmessage = (event) => {
+      if (typeof event.data !== 'string') return; // frames
+      const message = JSON.parse(event.data);
+      if (message.type === 'welcome') {
+        bounds = message.scene.bounds;
+        socket.send(JSON.stringify({ type: 'camera', seq: 1, ...camera }));
+        socket.send(JSON.stringify(lens));
+        ask(0);
+      } else if (message.type === 'picked') {
+        answers[message.id] = message;
+        if (message.id + 1 < pixels.length) return ask(message.id + 1);
+        socket.close();
+        resolve({ bounds, answers });
+      } else {
+        reject(new Error(`unexpected: ${event.data}`));
+      }
+    };
+    socket.onerror = () => reject(new Error('the pick socket failed'));
+  }), { camera, lens, viewport, pixels });
+}
+
 async function run(page, url) {
+  // The status's states in order, from the page's start.
+  await page.addInitScript(() => {
+    window.statusStates = [];
+    document.addEventListener('DOMContentLoaded', () => {
+      const status = document.querySelector('#status');
+      new MutationObserver(() => {
+        if (window.statusStates.at(-1) !== status.dataset.state) window.statusStates.push(status.dataset.state);
+      }).observe(status, { attributes: true, childList: true });
+    });
+  });
   await page.goto(`${url}#mode=postprocess`);
   await page.waitForSelector('#status[data-state="live"]', { timeout: TIMEOUT_MS });
-  step('connected');
+  const states = await page.evaluate(() => window.statusStates);
+  assert.ok(states.indexOf('waiting') >= 0 && states.indexOf('waiting') < states.indexOf('live'),
+    `"waiting for the first frame" comes before live: ${states}`);
+  step(`connected: ${states.join(' -> ')}`);
 
   await page.waitForFunction(
     () => document.querySelector('[data-field="mode"]').textContent === 'postprocess',
     null, { timeout: TIMEOUT_MS });
   const size = await statsField(page, 'size');
-  assert.equal(size, '480×270', 'the frame has the pane\'s size');
+  assert.equal(size, '480×270 px', 'the frame has the pane\'s size');
   await stillFrame(page);
   const before = await thumbnail(page);
   assert.ok(before.some((v) => v > 8), 'the frame is not black');
   step(`a frame appeared (${size})`);
 
-  const canvas = page.locator('#pane-main canvas');
+  const canvas = page.locator('#pane-main > canvas');
   const box = await canvas.boundingBox();
   const centre = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
   await page.mouse.move(centre.x, centre.y);
@@ -158,6 +239,13 @@ async function run(page, url) {
   assert.equal(await page.$eval('#cameras', (select) => select.value), '0',
     'the picked camera stays shown');
   step('a scene camera picked: shown in the picker, its focus 4.00 m applied');
+
+  await navigation(page, box);
+  // Back to the scene camera's view (its subject at the 4 m focus) for the lens's steps.
+  await page.selectOption('#cameras', '0');
+  await page.waitForFunction(() => document.querySelector('#cameras').value === '0');
+  await page.waitForTimeout(600); // the view changes in the URL within 250 ms
+  await stillFrame(page);
 
   // A longer lens zooms in: the picture changes and the field of view the frames report follows
   // 2 atan(extent / 2f), where a 16:9 pane takes 36 x 20.25 mm of the full-frame sensor.
@@ -287,6 +375,129 @@ async function run(page, url) {
   step(`screenshot ${path.join(artifacts, 'client.png')}`);
 }
 
+// Orbit about a near object, the interactive scale, dolly, undo and redo, fly mode, split view.
+async function navigation(page, box) {
+  const viewport = { width: 480, height: 270 };
+  await page.waitForTimeout(600); // the URL follows the view within 250 ms
+  const start = await urlCamera(page);
+  // The nearest surface on a grid of pixels: the near object the orbit starts on.
+  const grid = [];
+  for (let y = 20; y < viewport.height; y += 25) for (let x = 20; x < viewport.width; x += 40) grid.push([x, y]);
+  const { bounds, answers } = await pickPixels(page, start, viewport, grid);
+  const hits = answers.map((a, i) => ({ ...a, pixel: grid[i] })).filter((a) => a.hit);
+  const nearest = hits.reduce((a, b) => (b.distance < a.distance ? b : a));
+  const farthest = hits.reduce((a, b) => (b.distance > a.distance ? b : a));
+  assert.ok(nearest.distance < 0.5 * farthest.distance, 'the scene has a near object');
+  const at = { x: box.x + nearest.pixel[0] + 0.5, y: box.y + nearest.pixel[1] + 0.5 };
+
+  // Drag from the near object until a moving frame at a lower resolution is shown.
+  await page.mouse.move(at.x, at.y);
+  await page.mouse.down();
+  let moving = '';
+  let dx = 0;
+  for (const deadline = Date.now() + TIMEOUT_MS; !/^moving: \d+%$/.test(moving) && Date.now() < deadline;) {
+    dx = dx >= 120 ? 10 : dx + 10; // back and forth: the drag goes on as long as it must
+    await page.mouse.move(at.x + dx, at.y - dx / 4, { steps: 2 });
+    await page.waitForTimeout(100);
+    moving = await statsField(page, 'state');
+  }
+  assert.match(moving, /^moving: \d+%$/, 'a drag shows the interactive scale');
+  assert.ok(await page.isVisible('#pane-main .pivot'), 'the pivot marker shows while orbiting');
+  const movingShot = await screenshot(page, 'client-orbit-moving.png');
+  await page.mouse.up();
+  await page.waitForFunction(() => !document.querySelector('#pane-main .pivot').checkVisibility());
+  await cameraMoved(page, start);
+  await page.waitForTimeout(400); // the URL follows the view within 250 ms
+  const orbited = await urlCamera(page);
+  const before = between(start.position, nearest.point);
+  const after = between(orbited.position, nearest.point);
+  assert.ok(Math.abs(after - before) < 0.01 * before,
+    `the orbit keeps the camera's distance to the pivot (${before.toFixed(3)} m, then ${after.toFixed(3)} m)`);
+  assert.ok(between(orbited.position, start.position) > 0.05 * before, 'the camera moved');
+  assert.ok(orbited.position.every((v, i) => v >= bounds.min[i] && v <= bounds.max[i]),
+    `the camera stays inside the scene: ${orbited.position}`);
+  step(`orbit about the near object at ${before.toFixed(2)} m: distance kept (${after.toFixed(2)} m), ` +
+    `"${moving}" while dragging (${movingShot})`);
+
+  await page.waitForFunction(
+    () => /^(refining|converged)/.test(document.querySelector('#pane-main [data-field="state"]').textContent),
+    null, { timeout: TIMEOUT_MS });
+  assert.equal(await statsField(page, 'size'), '480×270 px', 'full size at rest');
+  step(`at rest: ${await statsField(page, 'state')} at full size (${await screenshot(page, 'client-orbit-rest.png')})`);
+
+  // The wheel toward the pivot (where the drag started: an orbit keeps it in place).
+  await page.mouse.move(at.x, at.y);
+  for (let i = 0; i < 40; i++) await page.mouse.wheel(0, -100);
+  await stillFrame(page);
+  const dollied = await urlCamera(page);
+  const standoff = Math.max(0.05, between(bounds.max, bounds.min) * 0.005);
+  const left = between(dollied.position, nearest.point);
+  assert.ok(left < 0.3 * before, `the dolly moved toward the surface (${left.toFixed(3)} m left)`);
+  const [again] = (await pickPixels(page, dollied, viewport, [nearest.pixel])).answers;
+  assert.ok(again.hit && again.distance >= 0.5 * standoff,
+    `the dolly stopped short of the surface: ${JSON.stringify(again)}, standoff ${standoff} m`);
+  step(`40 wheel notches stop ${again.distance.toFixed(3)} m short of the surface ` +
+    `(${await screenshot(page, 'client-dolly.png')})`);
+
+  // Undo back to the scene camera's view, then redo.
+  for (let i = 0; i < 5 && between((await urlCamera(page)).position, start.position) > 1e-3; i++) {
+    await page.keyboard.press('Control+z');
+    await page.waitForTimeout(400); // the URL follows every 250 ms
+  }
+  assert.ok(between((await urlCamera(page)).position, start.position) < 1e-3, 'undo restores the view');
+  await page.click('#redo');
+  await cameraMoved(page, start); // redo moves again
+  await stillFrame(page);
+  step(`undo restores the scene camera's view, redo moves again (${await screenshot(page, 'client-undo.png')})`);
+
+  // Fly: W moves along the view direction.
+  const flyFrom = await urlCamera(page);
+  await page.click('#fly');
+  assert.equal(await page.getAttribute('#fly', 'aria-pressed'), 'true');
+  await page.keyboard.down('KeyW');
+  await page.waitForTimeout(600);
+  await page.keyboard.up('KeyW');
+  const flown = await cameraMoved(page, flyFrom);
+  const forward = flyFrom.target.map((v, i) => v - flyFrom.position[i]);
+  const moved = flown.position.map((v, i) => v - flyFrom.position[i]);
+  assert.ok(moved.reduce((sum, v, i) => sum + v * forward[i], 0) > 0, 'W flies forward');
+  await page.keyboard.press('f');
+  assert.equal(await page.getAttribute('#fly', 'aria-pressed'), 'false', 'F leaves fly mode');
+  await stillFrame(page);
+  step(`fly mode: W moved ${between(flown.position, flyFrom.position).toFixed(2)} m forward ` +
+    `(${await screenshot(page, 'client-fly.png')})`);
+
+  // The split view: each pane shows the whole shot (its aspect), labelled with its mode.
+  await page.check('#split');
+  await page.waitForFunction(() => document.querySelector('#pane-compare [data-field="mode"]').textContent === 'postprocess',
+    null, { timeout: TIMEOUT_MS });
+  await page.waitForFunction(() => !document.querySelector('#pane-main [data-field="size"]').textContent.startsWith('480'),
+    null, { timeout: TIMEOUT_MS });
+  for (const pane of ['main', 'compare']) {
+    const [w, h] = (await statsField(page, 'size', pane)).match(/\d+/g).map(Number);
+    assert.ok(Math.abs(w / h - 480 / 270) < 0.02, `the ${pane} pane keeps the shot's framing: ${w}x${h}`);
+  }
+  const labels = `${await statsField(page, 'mode', 'main')} | ${await statsField(page, 'mode', 'compare')}`;
+  step(`split: both panes ${await statsField(page, 'size', 'compare')}, the shot's aspect, labelled ${labels} ` +
+    `(${await screenshot(page, 'client-split.png')})`);
+  await page.uncheck('#split');
+  await page.waitForFunction(() => document.querySelector('#pane-main [data-field="size"]').textContent === '480×270 px',
+    null, { timeout: TIMEOUT_MS });
+}
+
+// The daemon stops: the picture dims under a banner, and a click says it was not sent.
+async function disconnected(page, daemon) {
+  await stopDaemon(daemon);
+  await page.waitForSelector('#pane-main .banner:not([hidden])', { timeout: TIMEOUT_MS });
+  const banner = await text(page, '#pane-main .banner');
+  assert.match(banner, /^Disconnected: the daemon stopped/, banner);
+  assert.ok(await page.$eval('#pane-main', (pane) => pane.classList.contains('disconnected')), 'the picture is dimmed');
+  const box = await page.locator('#pane-main > canvas').boundingBox();
+  await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+  assert.match(await text(page, '[data-error-for="general"]'), /Not connected/);
+  step(`daemon stopped: "${banner}" (${await screenshot(page, 'client-disconnected.png')})`);
+}
+
 const started = Date.now();
 function step(message) {
   console.log(`ok (${((Date.now() - started) / 1000).toFixed(1)} s): ${message}`);
@@ -310,11 +521,14 @@ async function main() {
     const pageErrors = [];
     page.on('pageerror', (error) => pageErrors.push(error.message));
     page.on('console', (message) => {
-      if (message.type() === 'error') pageErrors.push(message.text());
+      // Chromium logs each refused reconnection once the daemon is stopped on purpose.
+      if (message.type() === 'error' && !/WebSocket connection to .* failed/.test(message.text()))
+        pageErrors.push(message.text());
     });
     page.setDefaultTimeout(TIMEOUT_MS);
     try {
       await run(page, address);
+      await disconnected(page, daemon);
     } catch (error) {
       await page.screenshot({ path: path.join(artifacts, 'failure.png') }).catch(() => {});
       throw error;

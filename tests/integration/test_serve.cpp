@@ -159,6 +159,17 @@ TEST(Serve, FocusAtFocusesOnTheDepthUnderThePixel) {
     ASSERT_TRUE(frame) << daemon.log();
     EXPECT_NEAR(frame->stats["focus_distance"].get<double>(), depth, 1e-3 * depth)
         << "pixel " << pixel.x << "," << pixel.y;
+    // A pick of the same pixel answers with the same depth and the point it is at.
+    client->sendText(
+        nlohmann::json{{"type", "pick"}, {"id", seq}, {"x", pixel.x}, {"y", pixel.y}}.dump());
+    nlohmann::json picked = nextText(*client);
+    ASSERT_EQ(picked.value("type", ""), "picked") << picked.dump();
+    EXPECT_EQ(picked["id"], seq);
+    ASSERT_EQ(picked["hit"], true) << picked.dump();
+    EXPECT_NEAR(picked["depth"].get<double>(), depth, 1e-3 * depth);
+    glm::vec3 point(picked["point"][0], picked["point"][1], picked["point"][2]);
+    EXPECT_NEAR(glm::length(point - view.position), picked["distance"].get<double>(), 1e-3 * depth);
+    EXPECT_NEAR(glm::dot(point - view.position, view.forward), depth, 1e-3 * depth);
   }
 }
 
@@ -275,6 +286,7 @@ TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
       {R"({"type":"lens","seq":1,"focal_length_mm":50,"f_number":2,"focus_distance":2,"sensor_width_mm":400,"sensor_height_mm":24})",
        "out_of_range", "sensor_width_mm"},
       {R"({"type":"focus_at","seq":1,"x":5000,"y":1})", "out_of_range", "x"},
+      {R"({"type":"pick","id":1,"x":1,"y":5000})", "out_of_range", "y"},
       {R"({"type":"mode","seq":1,"mode":"blurry"})", "out_of_range", "mode"},
       {R"({"type":"settings","rays_per_pixel":9})", "out_of_range", "rays_per_pixel"},
       {R"({"type":"ack","frame":99999})", "out_of_range", "frame"},

@@ -59,6 +59,11 @@ TEST(MessageCodec, ValidMessagesGiveTheirValues) {
   ASSERT_TRUE(focus.ok());
   EXPECT_FLOAT_EQ(std::get<FocusAtMessage>(*focus.message).pullMs, 300.0f);
 
+  ParsedMessage pick = parse(R"({"type":"pick","id":9,"x":3,"y":4.5})");
+  ASSERT_TRUE(pick.ok()) << pick.error.message;
+  EXPECT_EQ(std::get<PickMessage>(*pick.message).id, 9u);
+  EXPECT_FLOAT_EQ(std::get<PickMessage>(*pick.message).y, 4.5f);
+
   ParsedMessage mode = parse(R"({"type":"mode","seq":6,"mode":"hybrid","view":"mask"})");
   ASSERT_TRUE(mode.ok());
   EXPECT_EQ(std::get<ModeMessage>(*mode.message).mode, RenderMode::Hybrid);
@@ -123,6 +128,8 @@ TEST(MessageCodec, MissingAndUnknownFieldsAreBadFields) {
   expectError(R"({"type":"hello","protocol":1,"viewport":{"width":64,"height":48,"depth":3}})",
               ErrorCode::BadField, "viewport.depth");
   expectError(R"({"type":"ack"})", ErrorCode::BadField, "frame");
+  expectError(R"({"type":"pick","x":1,"y":1})", ErrorCode::BadField, "id");
+  expectError(R"({"type":"pick","id":1,"x":1,"y":1,"seq":2})", ErrorCode::BadField, "seq");
 }
 
 TEST(MessageCodec, ValuesOutOfRange) {
@@ -166,6 +173,8 @@ TEST(MessageCodec, ValuesOutOfRange) {
   expectError(R"({"type":"focus_at","seq":1,"x":-1,"y":0})", ErrorCode::OutOfRange, "x");
   expectError(R"({"type":"focus_at","seq":1,"x":1,"y":0,"pull_ms":20000})", ErrorCode::OutOfRange,
               "pull_ms");
+  expectError(R"({"type":"pick","id":-1,"x":1,"y":0})", ErrorCode::OutOfRange, "id");
+  expectError(R"({"type":"pick","id":1,"x":1,"y":-2})", ErrorCode::OutOfRange, "y");
   expectError(R"({"type":"mode","seq":1,"mode":"reference"})", ErrorCode::OutOfRange, "mode");
   expectError(R"({"type":"mode","seq":1,"mode":"hybrid","view":"sideways"})", ErrorCode::OutOfRange,
               "view");
@@ -261,6 +270,30 @@ TEST(ServerMessages, WelcomeAndErrorFollowTheSchemas) {
           {{"type", "error"}, {"code", "out_of_range"}, {"message", "too big"}, {"field", "x"}}));
   EXPECT_FALSE(
       nlohmann::json::parse(errorMessage({ErrorCode::BadJson, "bad", ""})).contains("field"));
+}
+
+TEST(ServerMessages, PickedAndFrameStatsFollowTheSchemas) {
+  auto schemaOf = [](const char* name) {
+    std::ifstream file(std::string(HDOF_SOURCE_DIR "/protocol/schemas/") + name);
+    EXPECT_TRUE(file) << name;
+    return nlohmann::json::parse(file, nullptr, false);
+  };
+  nlohmann::json picked = schemaOf("picked.json");
+  nlohmann::json hit = nlohmann::json::parse(pickedMessage(4, SurfaceHit{{1, 2, 3}, 2.5f, 3.0f}));
+  EXPECT_EQ(hit, nlohmann::json({{"type", "picked"}, {"id", 4}, {"hit", true},
+                                 {"point", {1.0, 2.0, 3.0}}, {"depth", 2.5}, {"distance", 3.0}}));
+  for (const auto& [field, value] : hit.items())
+    EXPECT_TRUE(picked["properties"].contains(field)) << field << " is not in picked.json";
+  EXPECT_EQ(nlohmann::json::parse(pickedMessage(5, std::nullopt)),
+            nlohmann::json({{"type", "picked"}, {"id", 5}, {"hit", false}}));
+
+  nlohmann::json statsSchema = schemaOf("frame-stats.json");
+  FrameStatsMessage stats;
+  stats.inputToSendMs = 1.0;
+  nlohmann::json fields = nlohmann::json::parse(frameStatsJson(stats));
+  for (const auto& [field, value] : fields.items())
+    EXPECT_TRUE(statsSchema["properties"].contains(field)) << field << " is not in frame-stats.json";
+  EXPECT_TRUE(fields.contains("accumulation_target") && fields.contains("moving"));
 }
 
 }  // namespace

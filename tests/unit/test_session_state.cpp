@@ -140,12 +140,35 @@ TEST(SessionState, RayTracedModesAccumulateThenIdle) {
     ASSERT_TRUE(dueAt(s, t)) << i;
     FramePlan plan = s.startFrame(t, noFocus);
     EXPECT_EQ(plan.accumulatedFrames, i);
+    EXPECT_EQ(plan.accumulationTarget, 4u) << "the frames that converge it";
     sentAndAcked(s, plan.frame, t);
     t += 5ms;
   }
   EXPECT_FALSE(s.nextFrameDue()) << "converged";
   s.apply(camera(1, 1.0f), t);
-  EXPECT_EQ(s.startFrame(t, noFocus).accumulatedFrames, 1u) << "a change starts over";
+  FramePlan moved = s.startFrame(t, noFocus);
+  EXPECT_EQ(moved.accumulatedFrames, 1u) << "a change starts over";
+  EXPECT_TRUE(moved.moving);
+}
+
+TEST(SessionState, ANewStillQualityShowsTheRestingViewOnceMore) {
+  SessionState s(defaults(RenderMode::RayTrace), {64, 48});
+  Clock::time_point t = kStart + 1s;
+  for (uint32_t i = 1; i <= 4; ++i) {
+    sentAndAcked(s, s.startFrame(t, noFocus).frame, t);
+    t += 5ms;
+  }
+  ASSERT_FALSE(s.nextFrameDue()) << "converged";
+  SettingsMessage settings;
+  settings.jpegQualityStill = 100;
+  s.apply(settings, t);
+  ASSERT_TRUE(dueAt(s, t));
+  FramePlan again = s.startFrame(t, noFocus);
+  EXPECT_EQ(again.jpegQuality, 100);
+  EXPECT_EQ(again.accumulatedFrames, 5u) << "the accumulation goes on";
+  EXPECT_FALSE(again.moving);
+  sentAndAcked(s, again.frame, t);
+  EXPECT_FALSE(s.nextFrameDue()) << "then idle again";
 }
 
 TEST(SessionState, AStillQualityFrameOnceTheViewRests) {
