@@ -78,7 +78,7 @@ export function parseSavedViews(text) {
   try {
     data = JSON.parse(text);
   } catch {
-    throw new Error('the file is not JSON: choose a file saved with "Download views"');
+    throw new Error('the file is not JSON: choose a file saved with the download button (⤓)');
   }
   if (data?.format !== SAVED_VIEWS_FORMAT || !Array.isArray(data.views))
     throw new Error(`the file is not a list of saved views (format "${SAVED_VIEWS_FORMAT}")`);
