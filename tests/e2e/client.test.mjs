@@ -7,7 +7,8 @@
 // length zooms in (the field of view follows), the depth of field limits shown agree with the
 // thin-lens formulas, the view selector lists the daemon's debug views and shows one with the
 // hybrid, the in-focus zone overlay tints the picture, the mode selector changes the mode the
-// frames report, a snapshot downloads, and a stopped daemon dims the picture under a banner.
+// frames report, a snapshot downloads, the panel fits a 900x560 window, and a stopped daemon dims
+// the picture under a banner.
 // Screenshots of each state go to the artifact directory.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
@@ -373,6 +374,16 @@ async function run(page, url) {
 
   await page.screenshot({ path: path.join(artifacts, 'client.png') });
   step(`screenshot ${path.join(artifacts, 'client.png')}`);
+
+  // The control panel fits a 900x560 window without scrolling (once the snapshot's note is gone).
+  await page.setViewportSize({ width: 900, height: 560 });
+  await page.waitForSelector('#share-note', { state: 'hidden', timeout: TIMEOUT_MS });
+  await page.waitForFunction(() => document.querySelector('#pane-main [data-field="size"]').textContent.endsWith('560 px'),
+    null, { timeout: TIMEOUT_MS });
+  const [scrolled, shown] = await page.$eval('#controls', (panel) => [panel.scrollHeight, panel.clientHeight]);
+  assert.ok(scrolled <= shown, `the panel fits at 900x560: ${scrolled} px of content in ${shown} px`);
+  step(`the panel fits at 900x560 (${await screenshot(page, 'client-900x560.png')})`);
+  await page.setViewportSize(WINDOW);
 }
 
 // Orbit about a near object, the interactive scale, dolly, undo and redo, fly mode, split view.
