@@ -17,7 +17,7 @@ const FIELDS = [
   ['bytes', 'Frame', 'the compressed frame and its JPEG quality (lower while moving)'],
   ['bitrate', 'Bitrate', 'frames received in the last second'],
   ['latency', 'Input to picture', 'from sending a camera or lens change to showing its first frame'],
-  ['server-latency', 'Daemon: input to send', 'from the daemon receiving the change to sending its frame'],
+  ['server-latency', 'Input to send', 'in the daemon: from receiving the change to sending its frame'],
   ['round-trip', 'Round trip', 'a question to the daemon and its answer (the last pick)'],
   ['dropped', 'Dropped frames', 'frames the daemon rendered that this page never showed'],
   ['rays', 'Rays traced', 'camera rays traced for the frame'],
