@@ -146,6 +146,8 @@ int runBench(std::span<const std::string> args) {
   double rays = double(imageSize.width) * imageSize.height;
   double mraysPerSecond = rays / (referenceMs * 1e-3) * 1e-6;
 
+  const Lens& lens = setup.request.lens;
+  glm::vec2 fov = fieldOfViewDeg(lens, imageSize.width, imageSize.height);
   if (json) {
     std::printf(
         "{\"device\":\"%s\",\"scene\":\"%s\",\"triangles\":%zu,\"width\":%u,\"height\":%u,"
@@ -156,19 +158,23 @@ int runBench(std::span<const std::string> args) {
         "\"hybrid_frame_ms\":%.3f,\"raytrace_frame_ms\":%.3f,\"mask_coverage\":%.4f,"
         "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
         "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
-        "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f}\n",
+        "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f,"
+        "\"lens\":{\"focal_length_mm\":%.3f,\"f_number\":%.4g,\"focus_distance\":%.4f,"
+        "\"sensor_width_mm\":%.4g,\"sensor_height_mm\":%.4g,\"fov_x_deg\":%.3f,"
+        "\"fov_y_deg\":%.3f}}\n",
         setup.context.deviceName().c_str(), loaded.scene.name.c_str(), loaded.scene.triangleCount(),
         imageSize.width, imageSize.height, median(buildMs), loaded.bvh.nodes.size(),
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         maskCoverage, hybridRays, hybridPassesJson.c_str(), fullTraceMs, fullRays,
-        postProcessFocusPullMs, hybridFocusPullMs);
+        postProcessFocusPullMs, hybridFocusPullMs, lens.focalLengthMm, lens.fNumber,
+        lens.focusDistance, lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
   std::printf("scene=%s triangles=%zu size=%ux%u\n", loaded.scene.name.c_str(),
               loaded.scene.triangleCount(), imageSize.width, imageSize.height);
-  std::printf("lens: %s\n", lensSummary(setup.request.lens, imageSize).c_str());
+  std::printf("lens: %s\n", lensSummary(lens, imageSize).c_str());
   std::printf("bvh_build_ms=%.1f bvh_nodes=%zu bvh_depth=%u (median of 3)\n", median(buildMs),
               loaded.bvh.nodes.size(), loaded.bvh.depth);
   std::printf("gbuffer_ms=%.2f visibility_ms=%.2f resolve_ms=%.2f (medians of %u frames)\n",

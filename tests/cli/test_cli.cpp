@@ -109,6 +109,16 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
   EXPECT_NE(lensLine("--focal-length 50 --sensor mft").find("sensor_mm=17.3x13 fov_deg=19.6x11.1"),
             std::string::npos)
       << lensLine("--focal-length 50 --sensor mft");
+  // bench --json says which lens its figures are for.
+  Result bench = runHdof(
+      "bench --scene builtin:dof --size 64x36 --frames 1 --focal-length 50 --sensor mft --json");
+  ASSERT_EQ(bench.exitCode, 0) << bench.stderrText;
+  EXPECT_NE(bench.stdoutText.find("\"lens\":{\"focal_length_mm\":50.000,"), std::string::npos)
+      << bench.stdoutText;
+  EXPECT_NE(bench.stdoutText.find("\"sensor_width_mm\":17.3,\"sensor_height_mm\":13,"
+                                  "\"fov_x_deg\":19.6"),
+            std::string::npos)
+      << bench.stdoutText;
 }
 
 TEST(Cli, BadQualityInputIsAOneLineError) {
