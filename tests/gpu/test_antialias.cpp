@@ -24,6 +24,18 @@ RenderSpec view(RenderMode mode) {
   return spec;
 }
 
+// The same view as a pipeline's request, for tests that drive a FramePipeline frame by frame.
+FrameRequest closeupRequest(const Scene& scene, RenderMode mode) {
+  const SceneCamera& closeup = *scene.findCamera("closeup");
+  FrameRequest request;
+  request.mode = mode;
+  request.camera = Camera::fromScene(closeup);
+  request.lens = onSceneCameraSensor(Lens{50.0f, 1e6f, 2.4f}, closeup, kWidth, kHeight);
+  request.settings.width = kWidth;
+  request.settings.height = kHeight;
+  return request;
+}
+
 // The pinhole image supersampled: 64 jittered rays per pixel.
 const ImageRgba8& supersampled() {
   static const ImageRgba8 image = [] {
@@ -50,14 +62,8 @@ TEST(AntiAliasing, AStillViewConvergesToTheSupersampledImage) {
 TEST(AntiAliasing, FramesInMotionGatherJitteredSamples) {
   SceneOnGpu& scene = testScene(kLivingRoom);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
-  FrameRequest request;
-  request.mode = RenderMode::Pinhole;
-  const SceneCamera& closeup = *scene.scene.findCamera("closeup");
-  request.lens = onSceneCameraSensor(Lens{50.0f, 1e6f, 2.4f}, closeup, kWidth, kHeight);
-  request.settings.width = kWidth;
-  request.settings.height = kHeight;
-  Camera end = Camera::fromScene(closeup);
-  request.camera = end;
+  FrameRequest request = closeupRequest(scene.scene, RenderMode::Pinhole);
+  Camera end = request.camera;
   pipeline.render(request);
   double oneSample = compareImages(pipeline.image(), supersampled()).psnrDb;
   pipeline.cut();
@@ -109,13 +115,7 @@ TEST(AntiAliasing, EverySampleIsShadedWhereTheRasterFoundIt) {
 TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
   SceneOnGpu& scene = testScene(kLivingRoom);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
-  FrameRequest request;
-  request.mode = RenderMode::PostProcess;
-  const SceneCamera& closeup = *scene.scene.findCamera("closeup");
-  request.camera = Camera::fromScene(closeup);
-  request.lens = onSceneCameraSensor(Lens{50.0f, 1e6f, 2.4f}, closeup, kWidth, kHeight);
-  request.settings.width = kWidth;
-  request.settings.height = kHeight;
+  FrameRequest request = closeupRequest(scene.scene, RenderMode::PostProcess);
   auto rasterised = [](const FrameStats& stats) {
     return std::any_of(stats.passMs.begin(), stats.passMs.end(), [](const auto& pass) {
       return pass.first == "visibility" || pass.first == "gbuffer" || pass.first == "antialias";
