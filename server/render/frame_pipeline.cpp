@@ -151,6 +151,10 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   // In motion too each frame samples another position in the pixel (after a cut, the centre),
   // which the reprojected history gathers, as TAA does.
   bool moving = raster_.valid && !stillRaster && request.settings.pixelJitter;
+  if (request.mode == RenderMode::Hybrid)
+    hybrid_.startFrame(raster_.valid &&
+                       sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
+                       sameLens(raster_.lens, request.lens));
   uniforms.rasterSample = stillRaster ? raster_.samples : 0;
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving    ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)

@@ -1,5 +1,7 @@
 #include "render/hybrid_dof.h"
 
+#include <algorithm>
+
 namespace hdof {
 
 using gpu::Grid;
@@ -35,10 +37,16 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
     gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
   });
+  // The moving average's window (frames at the full rays per pixel): short after a change of view
+  // or lens, so that the history follows it; on a still view it grows a frame per frame, so that
+  // the average takes in every ray since the change (the noise keeps falling), up to the most
+  // frames that half-float history still averages without rounding away a frame's share.
+  constexpr uint32_t kChangeWindow = 10, kStillWindow = 64;
   struct {
     uint32_t reset;  // a cut or the first frame: no history at all
     float minBlend;  // the moving average's weight of the new frame once history is long
-  } temporalPush{hasHistory_ ? 0u : 1u, 0.1f};
+  } temporalPush{hasHistory_ ? 0u : 1u,
+                 1.0f / float(std::min(kChangeWindow + stillFrames_, kStillWindow))};
   steps.dispatch(temporal_,
                  {{"rays", m.rays},
                   {"nearLayer", h.nearLayer},

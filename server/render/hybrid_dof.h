@@ -15,14 +15,20 @@ class HybridDof {
   HybridDof(const gpu::Context& context, const GpuScene& scene);
 
   // Forgets the history: the next frame starts the accumulation over (a cut, a new viewport).
-  void resetHistory() { hasHistory_ = false; }
+  void resetHistory() {
+    hasHistory_ = false;
+    stillFrames_ = 0;
+  }
   // Reads images.gbuffer and images.dof.output; writes images.mask and images.hybrid, the frame
   // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays. view
   // other than Final draws that debug view instead of the composite (FocusZone over it).
   // traceEverywhere: a full
-  // mask (every pixel gets the full rays). advance(): once the frame is submitted.
+  // mask (every pixel gets the full rays). startFrame() before record(): sameView when the
+  // frame's camera and lens are the previous frame's, so that the history may average over a
+  // longer window. advance(): once the frame is submitted.
   void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
               bool traceEverywhere = false) const;
+  void startFrame(bool sameView) { stillFrames_ = sameView ? stillFrames_ + 1 : 0; }
   void advance();
   // The history set the last frame wrote (images.hybrid.history[current()]).
   uint32_t current() const { return current_; }
@@ -31,7 +37,8 @@ class HybridDof {
   RayMask mask_;
   gpu::ComputeProgram trace_, temporal_, spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;
-  uint32_t current_ = 0;  // the history set the last frame wrote
+  uint32_t current_ = 0;      // the history set the last frame wrote
+  uint32_t stillFrames_ = 0;  // frames since the camera or the lens last changed
 };
 
 }  // namespace hdof

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include <glm/gtc/packing.hpp>
@@ -20,13 +21,15 @@ struct TemporalRig {
   FramePipeline pipeline{testContext(), scene.scene, *scene.gpu, kWidth, kHeight};
   uint32_t frame = 0;
 
-  void render(bool cut) {
+  // focusScale: the focus distance over the scene camera's (a lens change when it differs from
+  // the previous frame's).
+  void render(bool cut, float focusScale = 1.0f) {
     FrameRequest request;
     request.mode = RenderMode::Hybrid;
     request.camera = Camera::fromScene(scene.scene.cameras.front());
     request.lens = onSceneCameraSensor(
-        Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance}, scene.scene.cameras.front(),
-        kWidth, kHeight);
+        Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance * focusScale},
+        scene.scene.cameras.front(), kWidth, kHeight);
     request.settings = {kWidth, kHeight, frame, kRaysPerPixel};
     if (cut) pipeline.resetHistory();
     pipeline.render(request);
@@ -81,6 +84,22 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   }
 }
 
+// The moving average's window: ten frames' rays after a change, growing by a frame per still
+// frame (so that a resting view keeps converging), and short again once the lens changes.
+TEST(HybridTemporal, WindowGrowsWhileStillAndShrinksOnALensChange) {
+  TemporalRig rig;
+  constexpr float kChangeWindowRays = 10.0f * kRaysPerPixel;
+  auto longestHistory = [&] {
+    float longest = 0.0f;
+    for (const glm::vec4& m : readImage(rig.history().moments)) longest = std::max(longest, m.z);
+    return longest;
+  };
+  for (int i = 0; i < 24; ++i) rig.render(i == 0);
+  EXPECT_GT(longestHistory(), 1.5f * kChangeWindowRays) << "a still view averages past ten frames";
+  rig.render(false, 1.1f);
+  EXPECT_LE(longestHistory(), kChangeWindowRays) << "a focus change shortens the window";
+}
+
 TEST(HybridMode, RendersThroughTheFramePipeline) {
   RenderSpec spec;
   spec.width = 192;
@@ -101,9 +120,8 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   FrameRequest request;
   request.mode = RenderMode::Hybrid;
   request.camera = Camera::fromScene(scene.scene.cameras.front());
-  request.lens = onSceneCameraSensor(
-      Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance}, scene.scene.cameras.front(),
-      spec.width, spec.height);
+  request.lens = onSceneCameraSensor(Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance},
+                                     scene.scene.cameras.front(), spec.width, spec.height);
   request.settings = {spec.width, spec.height, 0, 2};
   FrameStats stats = pipeline.render(request);
   EXPECT_GT(stats.maskCoverage, 0.01);
