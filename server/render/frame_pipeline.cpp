@@ -100,6 +100,7 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   gbuffer_.bindImages(images_->gbuffer, width, height);
   hybrid_.resetHistory();
   accumulation_.valid = false;
+  dofOutput_.valid = false;
   readback_ = gpu::Buffer();
   previousViewProj_.reset();
 }
@@ -118,7 +119,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
         gbuffer_.record(steps, im.gbuffer, uniforms.viewProj, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
-        postProcess_.record(steps, im.gbuffer, im.dof);
+        if (!keepDofOutput_) postProcess_.record(steps, im.gbuffer, im.dof);
         radiance = &im.dof.output;
       }
       if (request.mode == RenderMode::Hybrid) {
@@ -156,6 +157,11 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
                        sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
                        sameLens(raster_.lens, request.lens));
   uniforms.rasterSample = stillRaster ? raster_.samples : 0;
+  // Neither the G-buffer nor the lens changed since the post-process last ran: its output stands.
+  bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kMaxRasterSamples;
+  bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
+  keepDofOutput_ =
+      needsDof && !drawsGBuffer && dofOutput_.valid && sameLens(dofOutput_.lens, request.lens);
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving    ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
                                                    : 0);
@@ -197,6 +203,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
 
   previousViewProj_ = uniforms.viewProj;
+  if (drawsGBuffer || needsDof) dofOutput_ = {needsDof, request.lens};
+  keepDofOutput_ = false;
   if (raster)
     raster_ = {true, request.camera, request.lens, uniforms.rasterSample + 1,
                moving ? raster_.moves + 1 : 0};

@@ -124,6 +124,14 @@ class FramePipeline {
     uint32_t moves = 0;  // frames in motion since the view last rested or was cut
   } raster_;
 
+  // What the post-process output holds: the depth of field of the G-buffer as it is, through
+  // this lens. A still view whose raster has all its samples keeps it until the lens changes.
+  struct DofOutput {
+    bool valid = false;
+    Lens lens;
+  } dofOutput_;
+  bool keepDofOutput_ = false;  // this frame reuses images.dof.output (record() reads it)
+
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {
     bool valid = false;

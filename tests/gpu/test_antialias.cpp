@@ -1,6 +1,7 @@
 // The raster's anti-aliasing: while the view rests, jittered G-buffer samples average into a
-// supersampled image, after which the G-buffer is reused; a lens change keeps that average (the
-// raster does not depend on the lens); a camera move starts over.
+// supersampled image, after which the G-buffer is reused (and the post-process output too, until
+// the lens changes); a lens change keeps that average (the raster does not depend on the lens); a
+// camera move starts over.
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
@@ -121,12 +122,21 @@ TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
       return pass.first == "visibility" || pass.first == "gbuffer" || pass.first == "antialias";
     });
   };
+  auto blurred = [](const FrameStats& stats) {
+    return std::any_of(stats.passMs.begin(), stats.passMs.end(),
+                       [](const auto& pass) { return pass.first.rfind("dof_", 0) == 0; });
+  };
   for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i)
     EXPECT_TRUE(rasterised(pipeline.render(request))) << "sample " << i;
   double settled = compareImages(pipeline.image(), supersampled()).psnrDb;
+  ImageRgba8 before = pipeline.image();
+  FrameStats rest = pipeline.render(request);
+  EXPECT_FALSE(rasterised(rest) || blurred(rest)) << "nothing changed: the last DoF output stands";
+  EXPECT_EQ(pipeline.image().pixels, before.pixels);
   request.lens.focusDistance = 3.0f;  // a focus pull: still a pinhole, same raster
   FrameStats focusPull = pipeline.render(request);
   EXPECT_FALSE(rasterised(focusPull)) << "a settled raster is reused: only the DoF steps run";
+  EXPECT_TRUE(blurred(focusPull)) << "the lens changed: the DoF steps run again";
   double afterFocus = compareImages(pipeline.image(), supersampled()).psnrDb;
   EXPECT_GT(afterFocus, settled - 0.5) << "the focus pull kept the raster's samples";
 
