@@ -1,8 +1,10 @@
 // Temporal accumulation of the hybrid's ray-traced layers (stage 5; an exponential moving average,
 // as in TAA): the near layer reprojected with the motion vectors, the far layer through its average
 // far world position (the neighbours' where a pixel had no far hit), history rejected where the
-// surface under the near reprojection changed depth (disocclusion) or on a cut, and, in motion,
-// clamped to the range of this frame's rays around the pixel, with a shorter window; luminance
+// surface under the near reprojection changed depth (disocclusion) or on a cut, and, while the
+// camera moves, clamped to the range of this frame's rays around the pixel, with a shorter window
+// (everywhere: a blurred near silhouette moves with its own parallax, not with the surface behind
+// it, so a slowly moving background pixel holds stale near colour too); luminance
 // moments give the variance that the next frame's ray mask (stage 3) reads, newly traced pixels
 // counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
 // cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history).
@@ -39,10 +41,7 @@ layout(push_constant) uniform Push {
 } push;
 
 const float kDisocclusion = 0.1;  // relative depth change that rejects the near history
-// Screen motion (pixels per frame) below which the view counts as still, and above which as
-// moving: history is clamped to the neighbourhood's range in motion only.
-const float kStill = 0.05, kMoving = 0.5;
-// The moving average's floor in motion: a shorter window, that lags less.
+// The moving average's floor while the camera moves: a shorter window, that lags less.
 const float kMovingMinBlend = 0.4;
 
 bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.imageSize))); }
@@ -119,19 +118,15 @@ void main() {
   // frame to frame): a frame's weight is its share of the rays in the window, which is
   // 1 / minBlend frames at the full rays per pixel.
   float rays = float(entry.y);
-  float moving = smoothstep(kStill, kMoving, length(pixelMotion));
-  float window = float(max(frame.samplesPerPixel, 1u)) / mix(push.minBlend, kMovingMinBlend, moving);
+  bool moving = frame.previousViewProj != frame.viewProj;
+  float window = float(max(frame.samplesPerPixel, 1u)) / (moving ? kMovingMinBlend : push.minBlend);
   float samples = pixelValid ? moments.z : 0.0;
   float accumulated = min(samples + rays, window);
   float blend = rays / accumulated;
   vec4 nearNow = vec4(near.rgb * near.a, near.a);
   vec3 farNow = far.rgb * (1.0 - near.a);
-  // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
-  // moved over or off it): clamped into their range, as TAA does.
-  NeighbourRange range = neighbourRange(pixel);
   // Near layer: with the surface under the pixel.
   vec4 nearHistory = pixelValid ? texelFetch(historyNear, ivec2(previousPixel), 0) : nearNow;
-  nearHistory = mix(nearHistory, clamp(nearHistory, range.nearMin, range.nearMax), moving);
 
   // Far layer: where the background seen through this pixel was.
   vec4 world = farWorldPosition(pixel);
@@ -139,7 +134,13 @@ void main() {
   bool farValid = push.reset == 0u && insideImage(previousFar) &&
                   texelFetch(historyMoments, ivec2(previousFar), 0).z > 0.0;
   vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : farNow;
-  farHistory = mix(farHistory, clamp(farHistory, range.farMin, range.farMax), moving);
+  // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
+  // moved over or off it): clamped into their range, as TAA does.
+  if (moving) {
+    NeighbourRange range = neighbourRange(pixel);
+    nearHistory = clamp(nearHistory, range.nearMin, range.nearMax);
+    farHistory = clamp(farHistory, range.farMin, range.farMax);
+  }
   vec3 outFarColor = mix(farHistory, farNow, farValid ? blend : 1.0);
   vec4 outNearValue = mix(nearHistory, nearNow, blend);
 
