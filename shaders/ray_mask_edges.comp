@@ -4,7 +4,8 @@
 // gradient, but its inverse depth is affine in screen space, so only real discontinuities remain;
 // dividing by the nearest inverse depth makes the jump relative, so edges count at every distance.
 // Only edges whose near side is out of focus need rays (partial occlusion), within that side's CoC
-// radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is. In the
+// radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is and the
+// |CoC| of its sharper side (how fine the detail its rays see can be: rays by CoC). In the
 // far field only depth edges with a wide enough blur count: creases of a surface and small
 // background blurs are the post-process's, except while the view rests, when every edge whose blur
 // spans a pixel gets rays so that a still frame converges to the lens's image.
@@ -19,7 +20,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 1, binding = 1, rgba32f) uniform readonly image2D normalDepth;
 layout(set = 1, binding = 2, r16f) uniform writeonly image2D reach;
-layout(set = 1, binding = 3, r16f) uniform writeonly image2D strength;
+layout(set = 1, binding = 3, rg16f) uniform writeonly image2D strength;
 
 // The 3x3 Gaussian [1 2 1] / 4 convolved with Sobel's smoothing [1 2 1] / 4, with Sobel's
 // central difference [-1 0 1] / 2, and with the second difference [1 -2 1].
@@ -79,5 +80,5 @@ void main() {
     diameter = min(wider, kRayMaskSilhouetteReach) + 2.0;
   }
   imageStore(reach, pixel, vec4(diameter));
-  imageStore(strength, pixel, vec4(needsRays ? edge : 0.0));
+  imageStore(strength, pixel, vec4(needsRays ? edge : 0.0, min(nearCoc, abs(farCoc)), 0.0, 0.0));
 }

@@ -3,7 +3,9 @@
 // the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many as
 // the strongest edge asks for while the pixel is new to the mask, then as many as the variance of
 // its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their history to
-// go on).
+// go on). Rays by CoC: where every edge that reaches the pixel is blurred on both sides, what its
+// rays see varies slowly across the image, and the spatial reconstruction fills in from the
+// neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -12,7 +14,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/dof.glsl"
 #include "shared/ray_work.h"
 
-layout(set = 1, binding = 1, rg16f) uniform readonly image2D spread;
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D spread;
 layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 // Any float format; a 1x1 zero image when there is no variance yet.
 layout(set = 1, binding = 3) uniform sampler2D variance;
@@ -29,11 +31,13 @@ void main() {
   int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
   bool nearEdge = false;
   float strongest = 0.0;
+  float sharpest = kDofMaxCoc;
   for (int dy = max(-radius, -pixel.y); dy <= min(radius, size.y - 1 - pixel.y); ++dy) {
-    vec2 row = imageLoad(spread, pixel + ivec2(0, dy)).xy;
+    vec3 row = imageLoad(spread, pixel + ivec2(0, dy)).xyz;
     if (row.x >= float(abs(dy))) {
       nearEdge = true;
       strongest = max(strongest, row.y);
+      sharpest = min(sharpest, row.z);
     }
   }
   float noise = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).r;
@@ -43,8 +47,9 @@ void main() {
   float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
   uint samples = clamp(frame.samplesPerPixel, 1u, 255u);  // what r8ui holds
   uint count = 0u;
+  float density = nearEdge ? min(1.0, pow(kRayMaskDenseCoc / max(sharpest, 1.0), 2.0)) : 1.0;
   if (nearEdge || noise >= kRayMaskVarianceOn)
-    count = clamp(uint(ceil(need * float(samples))), 1u, samples);
+    count = clamp(uint(ceil(need * density * float(samples))), 1u, samples);
   if (push.everywhere != 0u) count = samples;
   imageStore(rays, pixel, uvec4(count));
 }

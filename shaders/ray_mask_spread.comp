@@ -1,7 +1,8 @@
 // Ray mask (stage 3), spread along rows: the first half of a separable dilation of every edge pixel
 // by a disc of its own radius R (half its reach). A pixel p is within R of an edge pixel e exactly
 // when |p.y - e.y| <= sqrt(R^2 - (p.x - e.x)^2), so each pixel keeps the largest such half height
-// over the edge pixels of its row (x; -1: none) and their strongest edge (y). The pixel's dilated
+// over the edge pixels of its row (x; -1: none), their strongest edge (y) and the smallest |CoC| of
+// their sharper sides (z). The pixel's dilated
 // tile bounds the search: all of an 8x8 workgroup lies in one tile, so the loop is uniform.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -11,9 +12,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/dof.glsl"
 
 layout(set = 1, binding = 1, r16f) uniform readonly image2D reach;
-layout(set = 1, binding = 2, r16f) uniform readonly image2D strength;
+layout(set = 1, binding = 2, rg16f) uniform readonly image2D strength;
 layout(set = 1, binding = 3, rg16f) uniform readonly image2D dilatedTiles;
-layout(set = 1, binding = 4, rg16f) uniform writeonly image2D spread;
+layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D spread;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -22,14 +23,17 @@ void main() {
   int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
   float halfHeight = -1.0;
   float strongest = 0.0;
+  float sharpest = kDofMaxCoc;
   for (int dx = max(-radius, -pixel.x); dx <= min(radius, size.x - 1 - pixel.x); ++dx) {
     ivec2 source = pixel + ivec2(dx, 0);
     float edgeRadius = 0.5 * imageLoad(reach, source).x;
     float squared = edgeRadius * edgeRadius - float(dx * dx);
     if (edgeRadius > 0.0 && squared >= 0.0) {
       halfHeight = max(halfHeight, sqrt(squared));
-      strongest = max(strongest, imageLoad(strength, source).x);
+      vec2 edge = imageLoad(strength, source).xy;
+      strongest = max(strongest, edge.x);
+      sharpest = min(sharpest, edge.y);
     }
   }
-  imageStore(spread, pixel, vec4(halfHeight, strongest, 0.0, 0.0));
+  imageStore(spread, pixel, vec4(halfHeight, strongest, sharpest, 0.0));
 }

@@ -61,10 +61,10 @@ DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
 RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h) {
   reach = batch.make(w, h, kScalar, "ray mask reach");
-  strength = batch.make(w, h, kScalar, "ray mask strength");
+  strength = batch.make(w, h, kPair, "ray mask strength");
   tiles = makeTiles(batch, w, h, "ray mask tiles");
   dilatedTiles = makeTiles(batch, w, h, "ray mask dilated tiles");
-  spread = batch.make(w, h, kPair, "ray mask spread");
+  spread = batch.make(w, h, kColor, "ray mask spread");
   rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
   workList = gpu::Buffer(context,
                          sizeof(gpu::RayWorkHeader) + VkDeviceSize(w) * h * gpu::kRayWorkEntrySize,

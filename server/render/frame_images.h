@@ -40,9 +40,10 @@ struct DofImages {
 // The adaptive ray mask (ray_mask.h) and the work list it hands to the selective ray trace.
 struct RayMaskImages {
   RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
-  gpu::Image reach, strength;      // r16f: per edge pixel, its disc diameter and edge strength
+  gpu::Image reach;     // r16f: per edge pixel, its disc diameter
+  gpu::Image strength;  // rg16f: per edge pixel, its strength and its sharper side's |CoC|
   gpu::Image tiles, dilatedTiles;  // rg16f, tiles: x the largest reach
-  gpu::Image spread;               // rg16f: the row pass of the disc dilation
+  gpu::Image spread;  // rgba16f: the row pass of the disc dilation (half height, strength, |CoC|)
   gpu::Image rays;                 // r8ui: rays per pixel, 0 where the post-process is enough
   gpu::Buffer workList;            // shared/ray_work.h: header (dispatch arguments), entries
   gpu::Buffer workHeader;          // the list's header, read back for the frame's stats

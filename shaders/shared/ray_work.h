@@ -35,6 +35,9 @@ HDOF_CONST float kRayMaskNormalHigh = 0.5;
 // Far-field edges (their near side behind the focus plane) get rays from this CoC diameter
 // (pixels) on, and only for depth jumps: below it the post-process's background gather holds up.
 HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
+// Rays by CoC: a pixel whose nearby edges are blurred on both sides by more than this CoC
+// diameter (pixels) gets fewer rays, by the ratio of the blur areas (a quarter at twice it).
+HDOF_CONST float kRayMaskDenseCoc = 4.0;
 // The widest band (pixels) traced beside an in-focus silhouette over a blurred background.
 HDOF_CONST float kRayMaskSilhouetteReach = 8.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a

@@ -1,5 +1,6 @@
 // The adaptive ray mask: nothing on an in-focus wall; on the depth-of-field scene, rays along the
-// blurred foreground's silhouettes only, fewer as the aperture closes; the work list holds
+// blurred foreground's silhouettes only, fewer as the aperture closes, fewer per pixel where both
+// sides of an edge are blurred (rays by CoC); the work list holds
 // exactly the pixels with rays, with dispatch arguments for them.
 #include "render/gbuffer_pass.h"
 #include "render/ray_mask.h"
@@ -198,6 +199,20 @@ TEST(RayMask, ClosingTheApertureNeedsFewerRays) {
   EXPECT_LT(narrow.coverage, 0.5 * wide.coverage);
   expectListMatchesMask(narrow, rig.width());
   std::printf("builtin:dof coverage: f/1.4 %.3f, f/8 %.3f\n", wide.coverage, narrow.coverage);
+}
+
+// Rays by CoC: focused at 0.3 m, every edge of the scene is blurred on both sides by far more than
+// kRayMaskDenseCoc, so its pixels get a quarter of the rays or fewer; at the scene's focus the
+// sharp-backed silhouettes keep the full rays.
+TEST(RayMask, EdgesBlurredOnBothSidesGetFewerRays) {
+  RayMaskRig rig("builtin:dof", kWidth, kHeight);
+  RayMaskRig::Frame allBlurred = rig.render(Lens{50.0f, 1.4f, 0.3f});
+  ASSERT_GT(pixelsWithRays(allBlurred), 0u);
+  EXPECT_EQ(*std::max_element(allBlurred.rays.begin(), allBlurred.rays.end()),
+            (kSamplesPerPixel + 3) / 4);
+  expectListMatchesMask(allBlurred, rig.width());
+  RayMaskRig::Frame focused = rig.render(kWideOpen);
+  EXPECT_EQ(*std::max_element(focused.rays.begin(), focused.rays.end()), kSamplesPerPixel);
 }
 
 // Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
