@@ -146,8 +146,11 @@ void main() {
 
   float lum = luminance(near.rgb * near.a + far.rgb * (1.0 - near.a));
   vec2 m = pixelValid ? mix(moments.xy, vec2(lum, lum * lum), blend) : vec2(lum, lum * lum);
-  // A short history says little about the variance: such pixels ask for full rays.
-  float variance = accumulated < 4.0 * float(frame.samplesPerPixel)
+  // A short history (under four frames of the pixel's rays) says little about the variance: such
+  // pixels ask for full rays, and the spatial pass lets them borrow freely. Counted in the
+  // pixel's own frames, so that one the mask gives fewer rays (rays by CoC) is not held at that
+  // stage, over-smoothed, for longer.
+  float variance = accumulated < 4.0 * rays
                        ? kRayMaskVarianceNew
                        : max(m.y - m.x * m.x, 0.0) * rays;
   imageStore(outNear, pixel, outNearValue);
