@@ -18,38 +18,57 @@ layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // pr
 layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
 
-// The full-resolution colour and CoC of the 6x6 pixels around a quad: what the small blurs of
-// its four pixels read.
-vec3 windowColor[36];
-float windowReach[36];  // half the |CoC|: how far each pixel's own blur reaches
+// The small blur below reads kSmallBlurReach pixels around a pixel: discs up to a radius of
+// kSmallBlurReach + 0.5, which no pixel beyond that reach overlaps. In the far field the
+// half-resolution layer takes over from that disc's CoC (5 px) to kHalfResCoc.
+const int kSmallBlurReach = 2;
+const float kSmallBlurRadius = float(kSmallBlurReach) + 0.5;
+const float kSmallBlurCoc = 2.0 * kSmallBlurRadius;
+const float kHalfResCoc = kSmallBlurCoc + 4.0;
+const int kWindow = 2 + 2 * kSmallBlurReach;
+
+// The full-resolution colour and CoC of the pixels around a quad that the small blurs of its
+// four pixels read.
+vec3 windowColor[kWindow * kWindow];
+float windowReach[kWindow * kWindow];  // half the |CoC|: how far each pixel's own blur reaches
 
 void loadWindow(ivec2 first) {
   ivec2 last = ivec2(frame.imageSize) - 1;
-  [[unroll]] for (int j = 0; j < 36; ++j) {
-    ivec2 source = clamp(first + ivec2(j % 6 - 2, j / 6 - 2), ivec2(0), last);
+  [[unroll]] for (int j = 0; j < kWindow * kWindow; ++j) {
+    ivec2 source = clamp(first + ivec2(j % kWindow, j / kWindow) - kSmallBlurReach, ivec2(0), last);
     windowColor[j] = imageLoad(color, source).rgb;
     windowReach[j] = 0.5 * abs(imageLoad(cocImage, source).r);
   }
 }
 
-// The blur of a pixel whose CoC is too small for the half-resolution layers (below about 5 px):
+// The blur of a pixel whose CoC is too small for the half-resolution layers (up to 5 px):
 // a disc of its own diameter over the full-resolution colour, in which a tap counts as far as
 // its own blur reaches the pixel, so that a sharper neighbour (an in-focus silhouette) does not
 // spread into it. Below a pixel's width the sharp colour is exact. offset: the pixel in its quad.
 vec3 smallBlur(ivec2 offset, float coc, vec3 sharp) {
-  float radius = min(0.5 * abs(coc), 2.5);
+  float radius = min(0.5 * abs(coc), kSmallBlurRadius);
   if (radius < 0.5) return sharp;
   vec4 sum = vec4(sharp, 1.0);
-  [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
-    [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
+  [[unroll]] for (int dy = -kSmallBlurReach; dy <= kSmallBlurReach; ++dy) {
+    [[unroll]] for (int dx = -kSmallBlurReach; dx <= kSmallBlurReach; ++dx) {
       if (dx == 0 && dy == 0) continue;
       float distance = length(vec2(dx, dy));
-      int j = (offset.y + dy + 2) * 6 + offset.x + dx + 2;
+      int j = (offset.y + dy + kSmallBlurReach) * kWindow + offset.x + dx + kSmallBlurReach;
       float weight = saturate(radius - distance + 0.5) * saturate(windowReach[j] - distance + 0.5);
       sum += vec4(windowColor[j], 1.0) * weight;
     }
   }
   return sum.rgb / sum.w;
+}
+
+// How much of a pixel is the half-resolution blur. Downsampling, the gather's ramp and the
+// upsampling widen a blur by a few pixels, which a bright highlight shows (its bokeh disc grows
+// by as much): in the far field the full-resolution small blur alone is shown as far as it
+// reaches. A near pixel blends in its half-resolution blur from the focus zone on, since that
+// is where its silhouette turns semi-transparent over what lies behind it.
+float halfResAmount(float coc) {
+  if (coc < 0.0) return blurAmount(coc);
+  return saturate((coc - kSmallBlurCoc) / (kHalfResCoc - kSmallBlurCoc));
 }
 
 void main() {
@@ -65,7 +84,7 @@ void main() {
     ivec2 pixel = min(first + ivec2(i & 1, i >> 1), size - 1);
     sharp[i] = imageLoad(color, pixel).rgb;
     coc[i] = imageLoad(cocImage, pixel).r;
-    blur[i] = blurAmount(coc[i]);
+    blur[i] = halfResAmount(coc[i]);
     anyBlur = anyBlur || blur[i] > 0.0;
   }
   bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;

@@ -182,6 +182,40 @@ TEST(PostProcess, ApertureBladesShapeTheBokeh) {
   EXPECT_NEAR(hexagon / circle, 0.83f, 0.1f);
 }
 
+// Width and height of the pixels brighter than `threshold` (HDR luminance).
+glm::vec2 brightExtent(const std::vector<glm::vec3>& hdr, uint32_t width, float threshold) {
+  int x0 = int(width), x1 = -1, y0 = int(hdr.size()), y1 = -1;
+  for (size_t i = 0; i < hdr.size(); ++i) {
+    if (luminance(hdr[i]) <= threshold) continue;
+    int x = int(i % width), y = int(i / width);
+    x0 = std::min(x0, x), x1 = std::max(x1, x);
+    y0 = std::min(y0, y), y1 = std::max(y1, y);
+  }
+  return glm::vec2(float(x1 - x0 + 1), float(y1 - y0 + 1));
+}
+
+TEST(PostProcess, ABrightLightSlightlyOutOfFocusKeepsItsSize) {
+  // Stopped down, the light's blur is 2.5-5 px: the half-resolution layers' round trip
+  // (downsample, gather ramp, upsample) would widen it by as much, and a light 20000 times
+  // brighter than the wall shows every bit of that spread as white.
+  PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
+  for (float fNumber : {4.0f, 5.6f, 8.0f}) {
+    Lens lens{100.0f, fNumber, 2.0f};
+    PostProcessRig::Frame frame = rig.render(lens);
+    float coc = std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), 2.0f,
+                                              rig.uniforms.focalLengthPixels));
+    float light = 2.0f * 0.02f / 10.0f * rig.uniforms.focalLengthPixels;
+    glm::vec2 sharp = brightExtent(frame.sharpHdr, kWidth, 1.0f);
+    glm::vec2 blurred = brightExtent(frame.blurredHdr, kWidth, 1.0f);
+    SCOPED_TRACE("f/" + std::to_string(fNumber) + ": CoC " + std::to_string(coc) + " px, light " +
+                 std::to_string(light) + " px, sharp " + std::to_string(sharp.x) + " px, blurred " +
+                 std::to_string(blurred.x) + " x " + std::to_string(blurred.y) + " px");
+    EXPECT_GT(blurred.x, sharp.x) << "the light blurs";
+    EXPECT_LE(blurred.x, coc + light + 1.5f);
+    EXPECT_LE(blurred.y, coc + light + 1.5f);
+  }
+}
+
 // Background pixels beside an in-focus silhouette: blurred (|CoC| of at least 3 px) and between
 // nearest and farthest pixels from a pixel in focus that is at least 20% nearer.
 std::vector<uint8_t> besideInFocusSilhouettes(const std::vector<float>& depth, uint32_t width,
