@@ -19,8 +19,8 @@ layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
 
 // The small blur below reads kSmallBlurReach pixels around a pixel: discs up to a radius of
-// kSmallBlurReach + 0.5, which no pixel beyond that reach overlaps. In the far field the
-// half-resolution layer takes over from that disc's CoC (5 px) to kHalfResCoc.
+// kSmallBlurReach + 0.5, which no pixel beyond that reach overlaps. The half-resolution far
+// layer takes over from that disc's CoC (5 px) to kHalfResCoc.
 const int kSmallBlurReach = 2;
 const float kSmallBlurRadius = float(kSmallBlurReach) + 0.5;
 const float kSmallBlurCoc = 2.0 * kSmallBlurRadius;
@@ -30,14 +30,14 @@ const int kWindow = 2 + 2 * kSmallBlurReach;
 // The full-resolution colour and CoC of the pixels around a quad that the small blurs of its
 // four pixels read.
 vec3 windowColor[kWindow * kWindow];
-float windowReach[kWindow * kWindow];  // half the |CoC|: how far each pixel's own blur reaches
+float windowCoc[kWindow * kWindow];
 
 void loadWindow(ivec2 first) {
   ivec2 last = ivec2(frame.imageSize) - 1;
   [[unroll]] for (int j = 0; j < kWindow * kWindow; ++j) {
     ivec2 source = clamp(first + ivec2(j % kWindow, j / kWindow) - kSmallBlurReach, ivec2(0), last);
     windowColor[j] = imageLoad(color, source).rgb;
-    windowReach[j] = 0.5 * abs(imageLoad(cocImage, source).r);
+    windowCoc[j] = imageLoad(cocImage, source).r;
   }
 }
 
@@ -45,30 +45,42 @@ void loadWindow(ivec2 first) {
 // a disc of its own diameter over the full-resolution colour, in which a tap counts as far as
 // its own blur reaches the pixel, so that a sharper neighbour (an in-focus silhouette) does not
 // spread into it. Below a pixel's width the sharp colour is exact. offset: the pixel in its quad.
+// A near-field pixel is covered by its surface only as far as that surface's blur reaches it
+// (scatter-as-gather: each tap's energy over its own disc); beside the surface's silhouette the
+// rest is what lies behind it, seen through the blurred edge: the farther pixels around.
 vec3 smallBlur(ivec2 offset, float coc, vec3 sharp) {
   float radius = min(0.5 * abs(coc), kSmallBlurRadius);
   if (radius < 0.5) return sharp;
   vec4 sum = vec4(sharp, 1.0);
+  vec4 behind = vec4(0.0);
+  float covered = 1.0 / max(kPi * radius * radius, 1.0);
   [[unroll]] for (int dy = -kSmallBlurReach; dy <= kSmallBlurReach; ++dy) {
     [[unroll]] for (int dx = -kSmallBlurReach; dx <= kSmallBlurReach; ++dx) {
       if (dx == 0 && dy == 0) continue;
       float distance = length(vec2(dx, dy));
       int j = (offset.y + dy + kSmallBlurReach) * kWindow + offset.x + dx + kSmallBlurReach;
-      float weight = saturate(radius - distance + 0.5) * saturate(windowReach[j] - distance + 0.5);
-      sum += vec4(windowColor[j], 1.0) * weight;
+      float reach = 0.5 * abs(windowCoc[j]);
+      float inDisc = saturate(radius - distance + 0.5);
+      float reaches = saturate(reach - distance + 0.5);
+      sum += vec4(windowColor[j], 1.0) * (inDisc * reaches);
+      if (coc < 0.0) {
+        if (windowCoc[j] > 0.5 * coc)
+          behind += vec4(windowColor[j], 1.0) * inDisc;
+        else
+          covered += reaches / max(kPi * reach * reach, 1.0);
+      }
     }
   }
-  return sum.rgb / sum.w;
+  vec3 surface = sum.rgb / sum.w;
+  if (behind.w == 0.0) return surface;
+  return mix(behind.rgb / behind.w, surface, saturate(covered));
 }
 
 // How much of a pixel is the half-resolution blur. Downsampling, the gather's ramp and the
 // upsampling widen a blur by a few pixels, which a bright highlight shows (its bokeh disc grows
-// by as much): in the far field the full-resolution small blur alone is shown as far as it
-// reaches. A near pixel blends in its half-resolution blur from the focus zone on, since that
-// is where its silhouette turns semi-transparent over what lies behind it.
+// by as much): the full-resolution small blur alone is shown as far as it reaches.
 float halfResAmount(float coc) {
-  if (coc < 0.0) return blurAmount(coc);
-  return saturate((coc - kSmallBlurCoc) / (kHalfResCoc - kSmallBlurCoc));
+  return saturate((abs(coc) - kSmallBlurCoc) / (kHalfResCoc - kSmallBlurCoc));
 }
 
 void main() {

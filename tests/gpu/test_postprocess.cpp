@@ -195,21 +195,23 @@ glm::vec2 brightExtent(const std::vector<glm::vec3>& hdr, uint32_t width, float 
 }
 
 TEST(PostProcess, ABrightLightSlightlyOutOfFocusKeepsItsSize) {
-  // Stopped down, the light's blur is 2.5-5 px: the half-resolution layers' round trip
+  // Behind the focus, the light's blur is 2.5-5 px: the half-resolution layers' round trip
   // (downsample, gather ramp, upsample) would widen it by as much, and a light 20000 times
   // brighter than the wall shows every bit of that spread as white.
   PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
-  for (float fNumber : {4.0f, 5.6f, 8.0f}) {
-    Lens lens{100.0f, fNumber, 2.0f};
+  const Lens lenses[] = {{100.0f, 4.0f, 2.0f}, {100.0f, 5.6f, 2.0f}, {100.0f, 8.0f, 2.0f}};
+  for (const Lens& lens : lenses) {
     PostProcessRig::Frame frame = rig.render(lens);
-    float coc = std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), 2.0f,
+    float coc = std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), lens.focusDistance,
                                               rig.uniforms.focalLengthPixels));
     float light = 2.0f * 0.02f / 10.0f * rig.uniforms.focalLengthPixels;
     glm::vec2 sharp = brightExtent(frame.sharpHdr, kWidth, 1.0f);
     glm::vec2 blurred = brightExtent(frame.blurredHdr, kWidth, 1.0f);
-    SCOPED_TRACE("f/" + std::to_string(fNumber) + ": CoC " + std::to_string(coc) + " px, light " +
-                 std::to_string(light) + " px, sharp " + std::to_string(sharp.x) + " px, blurred " +
-                 std::to_string(blurred.x) + " x " + std::to_string(blurred.y) + " px");
+    SCOPED_TRACE("f/" + std::to_string(lens.fNumber) + ", focus " +
+                 std::to_string(lens.focusDistance) + " m: CoC " + std::to_string(coc) +
+                 " px, light " + std::to_string(light) + " px, sharp " + std::to_string(sharp.x) +
+                 " px, blurred " + std::to_string(blurred.x) + " x " + std::to_string(blurred.y) +
+                 " px");
     EXPECT_GT(blurred.x, sharp.x) << "the light blurs";
     EXPECT_LE(blurred.x, coc + light + 1.5f);
     EXPECT_LE(blurred.y, coc + light + 1.5f);
