@@ -1,6 +1,8 @@
 // Post-process DoF (stage 2), composite (full resolution): in the focus zone the sharp colour
-// exactly; beyond it the far layer, blended in as |CoC| grows; then the near layer over everything,
-// with its opacity (over in-focus pixels too: the blurred silhouette of a near object spreads).
+// exactly; up to kDofSmallBlurCoc a full-resolution blur, with the small near blurs in front
+// spread over it; beyond, the far layer, blended in as |CoC| grows; then the near layer over
+// everything, with its opacity (over in-focus pixels too: the blurred silhouette of a near object
+// spreads).
 // Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3
 // half-resolution pixels around it: 9 loads per layer instead of 16.
 #version 460
@@ -18,19 +20,18 @@ layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // pr
 layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
 
-// The small blur below reads kSmallBlurReach pixels around a pixel: discs up to a radius of
-// kSmallBlurReach + 0.5, which no pixel beyond that reach overlaps. The half-resolution far
-// layer takes over from that disc's CoC (5 px) to kHalfResCoc.
-const int kSmallBlurReach = 2;
+// The small blurs below read kSmallBlurReach pixels around a pixel: discs up to a radius of
+// kSmallBlurReach + 0.5 (the CoC kDofSmallBlurCoc), which no pixel beyond that reach overlaps.
+const int kSmallBlurReach = int(0.5 * kDofSmallBlurCoc);
 const float kSmallBlurRadius = float(kSmallBlurReach) + 0.5;
-const float kSmallBlurCoc = 2.0 * kSmallBlurRadius;
-const float kHalfResCoc = kSmallBlurCoc + 4.0;
 const int kWindow = 2 + 2 * kSmallBlurReach;
 
 // The full-resolution colour and CoC of the pixels around a quad that the small blurs of its
 // four pixels read.
 vec3 windowColor[kWindow * kWindow];
 float windowCoc[kWindow * kWindow];
+float windowReach[kWindow * kWindow];  // how far each pixel's own blur reaches
+float windowDensity[kWindow * kWindow];  // its energy per pixel of its disc
 
 void loadWindow(ivec2 first) {
   ivec2 last = ivec2(frame.imageSize) - 1;
@@ -38,6 +39,8 @@ void loadWindow(ivec2 first) {
     ivec2 source = clamp(first + ivec2(j % kWindow, j / kWindow) - kSmallBlurReach, ivec2(0), last);
     windowColor[j] = imageLoad(color, source).rgb;
     windowCoc[j] = imageLoad(cocImage, source).r;
+    windowReach[j] = 0.5 * abs(windowCoc[j]);
+    windowDensity[j] = 1.0 / max(kPi * windowReach[j] * windowReach[j], 1.0);
   }
 }
 
@@ -59,15 +62,14 @@ vec3 smallBlur(ivec2 offset, float coc, vec3 sharp) {
       if (dx == 0 && dy == 0) continue;
       float distance = length(vec2(dx, dy));
       int j = (offset.y + dy + kSmallBlurReach) * kWindow + offset.x + dx + kSmallBlurReach;
-      float reach = 0.5 * abs(windowCoc[j]);
       float inDisc = saturate(radius - distance + 0.5);
-      float reaches = saturate(reach - distance + 0.5);
+      float reaches = saturate(windowReach[j] - distance + 0.5);
       sum += vec4(windowColor[j], 1.0) * (inDisc * reaches);
       if (coc < 0.0) {
         if (windowCoc[j] > 0.5 * coc)
           behind += vec4(windowColor[j], 1.0) * inDisc;
         else
-          covered += reaches / max(kPi * reach * reach, 1.0);
+          covered += reaches * windowDensity[j];
       }
     }
   }
@@ -76,11 +78,24 @@ vec3 smallBlur(ivec2 offset, float coc, vec3 sharp) {
   return mix(behind.rgb / behind.w, surface, saturate(covered));
 }
 
-// How much of a pixel is the half-resolution blur. Downsampling, the gather's ramp and the
-// upsampling widen a blur by a few pixels, which a bright highlight shows (its bokeh disc grows
-// by as much): the full-resolution small blur alone is shown as far as it reaches.
-float halfResAmount(float coc) {
-  return saturate((abs(coc) - kSmallBlurCoc) / (kHalfResCoc - kSmallBlurCoc));
+// The near field's small blurs over this pixel, premultiplied: every blurred near pixel in front
+// of it whose disc reaches it adds its energy (colour over its disc's area), as the half-resolution
+// near layer does for the larger ones.
+vec4 smallNearSpread(ivec2 offset, float coc) {
+  vec4 sum = vec4(0.0);
+  [[unroll]] for (int dy = -kSmallBlurReach; dy <= kSmallBlurReach; ++dy) {
+    [[unroll]] for (int dx = -kSmallBlurReach; dx <= kSmallBlurReach; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      int j = (offset.y + dy + kSmallBlurReach) * kWindow + offset.x + dx + kSmallBlurReach;
+      float tapCoc = windowCoc[j];
+      float fullRes = 1.0 - halfResAmount(tapCoc);  // the share not in the near layer
+      if (tapCoc > -kDofFocusZone || tapCoc > coc - 0.25 * abs(tapCoc) || fullRes == 0.0) continue;
+      float energy = saturate(windowReach[j] - length(vec2(dx, dy)) + 0.5) * windowDensity[j];
+      sum += vec4(windowColor[j], 1.0) * (energy * fullRes);
+    }
+  }
+  float alpha = saturate(sum.w);
+  return sum.w > 0.0 ? vec4(sum.rgb / sum.w * alpha, alpha) : vec4(0.0);
 }
 
 void main() {
@@ -102,18 +117,24 @@ void main() {
   bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;
   bool anySmallBlur = false;
   [[unroll]] for (int i = 0; i < 4; ++i) anySmallBlur = anySmallBlur || (abs(coc[i]) >= 1.0 && blur[i] < 1.0);
-  if (anySmallBlur) loadWindow(first);
-
   vec4 far[9];
   vec4 near[9];
   if (anyBlur || withNear) {
     ivec2 halfLast = imageSize(farLayer) - 1;
     [[unroll]] for (int j = 0; j < 9; ++j) {
       ivec2 source = clamp(quad + ivec2(j % 3 - 1, j / 3 - 1), ivec2(0), halfLast);
-      if (anyBlur) far[j] = imageLoad(farLayer, source);
+      far[j] = imageLoad(farLayer, source);
       if (withNear) near[j] = imageLoad(nearLayer, source);
     }
   }
+  // Whether a small near blur may spread over the quad: the 3x3 half-resolution pixels cover the
+  // small blurs' window, each with the nearest CoC of its 2x2 pixels.
+  bool anySmallNear = false;
+  if (withNear) {
+    [[unroll]] for (int j = 0; j < 9; ++j)
+      anySmallNear = anySmallNear || (far[j].a <= -kDofFocusZone && far[j].a > -kDofHalfResCoc);
+  }
+  if (anySmallBlur || anySmallNear) loadWindow(first);
 
   [[unroll]] for (int i = 0; i < 4; ++i) {
     ivec2 offset = ivec2(i & 1, i >> 1);
@@ -141,6 +162,10 @@ void main() {
     float farAmount = blur[i] * saturate(farSum.w * 4.0);
     vec3 near = anySmallBlur && farAmount < 1.0 ? smallBlur(offset, coc[i], sharp[i]) : sharp[i];
     vec3 background = farAmount > 0.0 ? mix(near, farSum.rgb / farSum.w, farAmount) : near;
+    if (anySmallNear) {
+      vec4 smallNear = smallNearSpread(offset, coc[i]);
+      background = background * (1.0 - smallNear.a) + smallNear.rgb;
+    }
     imageStore(result, pixel, vec4(background * (1.0 - nearSum.a) + nearSum.rgb, 1.0));
   }
 }

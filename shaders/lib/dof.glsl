@@ -21,14 +21,14 @@ float cocSimilarity(float coc, float reference) {
   return saturate(1.0 - abs(coc - reference) / max(2.0, 0.5 * abs(reference)));
 }
 
-// How much of a pixel is the half-resolution blur rather than its sharp colour.
-float blurAmount(float coc) {
-  return saturate((abs(coc) - kDofFocusZone) / (kDofFullBlurCoc - kDofFocusZone));
+// How much of a pixel is the half-resolution blur rather than the full-resolution one.
+float halfResAmount(float coc) {
+  return saturate((abs(coc) - kDofSmallBlurCoc) / (kDofHalfResCoc - kDofSmallBlurCoc));
 }
 
-// How much a sample belongs to the near layer, which may spread over sharper pixels: as much as
-// it is blurred, so that the near layer never brings its blur to nearly sharp near pixels.
-float nearness(float coc) { return coc < 0.0 ? blurAmount(coc) : 0.0; }
+// How much a sample belongs to the half-resolution near layer, which may spread over sharper
+// pixels; the composite spreads the smaller near blurs at full resolution.
+float nearness(float coc) { return coc < 0.0 ? halfResAmount(coc) : 0.0; }
 
 // The gather kernel of a tile whose dilated largest |CoC| is tileCoc: its ring count and ring
 // spacing (half-resolution pixels). The prefilter fills the gaps between taps with the spacing.

@@ -16,10 +16,12 @@ HDOF_CONST float kDofMaxCoc = 64.0;
 HDOF_CONST int kDofTileReach = 2;
 // |CoC| below the diagonal of a pixel is in focus: the sharp colour is kept exactly.
 HDOF_CONST float kDofFocusZone = 1.41421356;
-// From this |CoC| on the half-resolution blur alone is shown; between the focus zone and here it
-// is blended with the sharp colour. Downsampling and upsampling blur by about as much as a 4 px
-// CoC, so below about 6 px the half-resolution result alone is too blurred.
-HDOF_CONST float kDofFullBlurCoc = 6.0;
+// Up to this |CoC| the composite blurs at full resolution, the near field spreading over what is
+// behind it too; from kDofHalfResCoc on the half-resolution layers alone are shown, and between
+// the two they are blended. The half-resolution round trip (downsample, gather ramp, upsample)
+// widens a blur by a few pixels, which a bright light's bokeh shows at once.
+HDOF_CONST float kDofSmallBlurCoc = 5.0;
+HDOF_CONST float kDofHalfResCoc = 9.0;
 // Gather kernel: up to kDofMaxRings rings of 8k taps (1 + 4 K (K + 1) taps in all), spaced about
 // kDofRingSpacing half-resolution pixels apart where the tile's CoC allows.
 HDOF_CONST int kDofMaxRings = 4;

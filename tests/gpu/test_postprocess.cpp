@@ -195,11 +195,12 @@ glm::vec2 brightExtent(const std::vector<glm::vec3>& hdr, uint32_t width, float 
 }
 
 TEST(PostProcess, ABrightLightSlightlyOutOfFocusKeepsItsSize) {
-  // Behind the focus, the light's blur is 2.5-5 px: the half-resolution layers' round trip
-  // (downsample, gather ramp, upsample) would widen it by as much, and a light 20000 times
-  // brighter than the wall shows every bit of that spread as white.
+  // The light's blur is 2.5-5 px, behind the focus and in front of it: the half-resolution
+  // layers' round trip (downsample, gather ramp, upsample) would widen it by as much, and a light
+  // 20000 times brighter than the wall shows every bit of that spread as white.
   PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
-  const Lens lenses[] = {{100.0f, 4.0f, 2.0f}, {100.0f, 5.6f, 2.0f}, {100.0f, 8.0f, 2.0f}};
+  const Lens lenses[] = {{100.0f, 4.0f, 2.0f}, {100.0f, 5.6f, 2.0f}, {100.0f, 8.0f, 2.0f},
+                         {100.0f, 0.7f, 30.0f}, {100.0f, 1.0f, 30.0f}};
   for (const Lens& lens : lenses) {
     PostProcessRig::Frame frame = rig.render(lens);
     float coc = std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), lens.focusDistance,
