@@ -27,8 +27,10 @@ const float kFarBlendRatio = 0.1;
 const float kSeamFade = 1.0;
 // Rays accumulated at which the focus zone shows the traced colour rather than the raster's.
 const float kConvergedRays = 32.0;
-// Rays accumulated from which the near and far fields show the traced colour alone.
-const float kTrustedRays = 32.0;
+// Rays accumulated from which the near and far fields show the traced colour alone. A pixel that
+// the mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
+// post-process after 32 of its own: handed over by then, it made a resting view worse for a while.
+const float kTrustedRays = 48.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 

@@ -191,6 +191,28 @@ TEST(HybridMode, FirstFrameIsAtLeastAsGoodAsThePostProcess) {
   EXPECT_GE(hybridRegion, ppRegion - 0.1);
 }
 
+// A resting view only gets better: each frame's rays are worth more than the post-process they
+// replace (no dip while the composite hands pixels with few rays over to their traced colour).
+TEST(HybridMode, AStillViewKeepsImproving) {
+  // Wider open than wideOpen(): blurs wide enough on both sides of their edges that the mask
+  // gives them fewer rays.
+  RenderSpec spec = wideOpen();
+  spec.lens.fNumber = 0.7f;
+  spec.mode = RenderMode::Reference;
+  spec.raysPerPixel = 256;
+  const ImageRgba8 reference = renderImage(spec);
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 4;
+  double previous = 0.0;
+  for (uint32_t frames : {8u, 16u, 20u, 24u, 32u}) {
+    spec.frames = frames;
+    double psnr = compareImages(renderImage(spec), reference).psnrDb;
+    std::printf("hybrid, %u frames: %.2f dB\n", frames, psnr);
+    EXPECT_GE(psnr, previous - 0.05) << frames << " frames";
+    previous = psnr;
+  }
+}
+
 // With every pixel traced, the hybrid is a ray tracer with a different reconstruction: its image
 // comes within 1 dB of raytrace's at the same rays against the reference, and close to it.
 TEST(HybridMode, WithAFullMaskMatchesRayTrace) {
