@@ -116,7 +116,9 @@ void main() {
   }
   bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;
   bool anySmallBlur = false;
-  [[unroll]] for (int i = 0; i < 4; ++i) anySmallBlur = anySmallBlur || (abs(coc[i]) >= 1.0 && blur[i] < 1.0);
+  [[unroll]] for (int i = 0; i < 4; ++i)
+    anySmallBlur = anySmallBlur || (abs(coc[i]) >= 1.0 && blur[i] < 1.0);
+
   vec4 far[9];
   vec4 near[9];
   if (anyBlur || withNear) {

@@ -199,8 +199,11 @@ TEST(PostProcess, ABrightLightSlightlyOutOfFocusKeepsItsSize) {
   // layers' round trip (downsample, gather ramp, upsample) would widen it by as much, and a light
   // 20000 times brighter than the wall shows every bit of that spread as white.
   PostProcessRig rig("builtin:bokeh", kWidth, kHeight);
-  const Lens lenses[] = {{100.0f, 4.0f, 2.0f}, {100.0f, 5.6f, 2.0f}, {100.0f, 8.0f, 2.0f},
-                         {100.0f, 0.7f, 30.0f}, {100.0f, 1.0f, 30.0f}};
+  const Lens lenses[] = {{100.0f, 4.0f, 2.0f},
+                         {100.0f, 5.6f, 2.0f},
+                         {100.0f, 8.0f, 2.0f},
+                         {100.0f, 0.7f, 30.0f},
+                         {100.0f, 1.0f, 30.0f}};
   for (const Lens& lens : lenses) {
     PostProcessRig::Frame frame = rig.render(lens);
     float coc = std::abs(gpu::signedCocPixels(10.0f, lens.apertureDiameter(), lens.focusDistance,
