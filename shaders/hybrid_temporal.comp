@@ -2,11 +2,11 @@
 // as in TAA): the near layer reprojected with the motion vectors, the far layer through its average
 // far world position (the neighbours' where a pixel had no far hit), history rejected where the
 // surface under the near reprojection changed depth (disocclusion) or on a cut, and, while the
-// camera moves, clamped to the range of this frame's rays around the pixel, with a shorter window
-// (everywhere: a blurred near silhouette moves with its own parallax, not with the surface behind
-// it, so a slowly moving background pixel holds stale near colour too); luminance
-// moments give the variance that the next frame's ray mask (stage 3) reads, newly traced pixels
-// counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
+// camera moves or the lens changes, clamped to the range of this frame's rays around the pixel,
+// with a shorter window (everywhere: a blurred near silhouette moves with its own parallax, not
+// with the surface behind it, so a slowly moving background pixel holds stale near colour too;
+// a focus pull moves every blur); luminance moments give the variance that the next frame's ray
+// mask (stage 3) reads, newly traced pixels counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
 // cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history).
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -43,6 +43,9 @@ layout(push_constant) uniform Push {
 const float kDisocclusion = 0.1;  // relative depth change that rejects the near history
 // The moving average's floor while the camera moves: a shorter window, that lags less.
 const float kMovingMinBlend = 0.4;
+// ... and while the lens changes (a focus pull): four frames, so that the blur keeps up with the
+// focus (ten frames trailed it by a visible step) without the noise of motion's window.
+const float kLensMinBlend = 0.25;
 
 bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(lessThan(p, vec2(frame.imageSize))); }
 
@@ -119,7 +122,11 @@ void main() {
   // 1 / minBlend frames at the full rays per pixel.
   float rays = float(entry.y);
   bool moving = frame.previousViewProj != frame.viewProj;
-  float window = float(max(frame.samplesPerPixel, 1u)) / (moving ? kMovingMinBlend : push.minBlend);
+  // A lens change (a focus pull) moves the blur as motion moves the image: the history is clamped
+  // to this frame's rays as in motion, over the window that follows a change.
+  bool changed = moving || frame.stillFrames == 0u;
+  float minBlend = moving ? kMovingMinBlend : changed ? max(push.minBlend, kLensMinBlend) : push.minBlend;
+  float window = float(max(frame.samplesPerPixel, 1u)) / minBlend;
   float samples = pixelValid ? moments.z : 0.0;
   float accumulated = min(samples + rays, window);
   float blend = rays / accumulated;
@@ -136,7 +143,7 @@ void main() {
   vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : farNow;
   // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
   // moved over or off it): clamped into their range, as TAA does.
-  if (moving) {
+  if (changed) {
     NeighbourRange range = neighbourRange(pixel);
     nearHistory = clamp(nearHistory, range.nearMin, range.nearMax);
     farHistory = clamp(farHistory, range.farMin, range.farMax);

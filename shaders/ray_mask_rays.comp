@@ -6,8 +6,9 @@
 // go on). Rays by CoC: where every edge that reaches the pixel is blurred on both sides, what its
 // rays see varies slowly across the image, and the spatial reconstruction fills in from the
 // neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc,
-// in motion and over a view's first frames; once the raster has all its samples, a settled
-// pixel's rays follow its variance alone, so that a resting view keeps converging as fast.
+// in motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera
+// and lens have rested kMaxRasterSamples frames, a settled pixel's rays follow its variance alone,
+// so that a resting view keeps converging as fast.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -49,7 +50,7 @@ void main() {
   float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
   uint samples = clamp(frame.samplesPerPixel, 1u, 255u);  // what r8ui holds
   uint count = 0u;
-  bool resting = frame.rasterSample >= kMaxRasterSamples;
+  bool resting = frame.stillFrames >= kMaxRasterSamples;
   float density = nearEdge && !(settled && resting)
                       ? min(1.0, pow(kRayMaskDenseCoc / max(sharpest, 1.0), 2.0))
                       : 1.0;

@@ -147,24 +147,27 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   uniforms.previousViewProj = previousViewProj_.value_or(uniforms.viewProj);
   bool raster = request.mode == RenderMode::Pinhole || request.mode == RenderMode::PostProcess ||
                 request.mode == RenderMode::Hybrid;
-  bool stillRaster = raster_.valid && sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
+  bool stillRaster = raster_.valid &&
+                     sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
                      request.settings.pixelJitter;
   // In motion too each frame samples another position in the pixel (after a cut, the centre),
   // which the reprojected history gathers, as TAA does.
   bool moving = raster_.valid && !stillRaster && request.settings.pixelJitter;
-  if (request.mode == RenderMode::Hybrid)
-    hybrid_.startFrame(raster_.valid &&
-                       sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
-                       sameLens(raster_.lens, request.lens));
   uniforms.rasterSample = stillRaster ? raster_.samples : 0;
+  uniforms.stillFrames =
+      raster_.valid && sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
+              sameLens(raster_.lens, request.lens)
+          ? raster_.stillFrames + 1
+          : 0;
+  if (request.mode == RenderMode::Hybrid) hybrid_.startFrame(uniforms.stillFrames);
   // Neither the G-buffer nor the lens changed since the post-process last ran: its output stands.
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kMaxRasterSamples;
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ =
       needsDof && !drawsGBuffer && dofOutput_.valid && sameLens(dofOutput_.lens, request.lens);
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
-                                       : moving    ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
-                                                   : 0);
+                                       : moving ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
+                                                : 0);
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
 
   // raytrace accumulates while the camera and lens stay the same and starts over when they
@@ -206,8 +209,12 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   if (drawsGBuffer || needsDof) dofOutput_ = {needsDof, request.lens};
   keepDofOutput_ = false;
   if (raster)
-    raster_ = {true, request.camera, request.lens, uniforms.rasterSample + 1,
-               moving ? raster_.moves + 1 : 0};
+    raster_ = {true,
+               request.camera,
+               request.lens,
+               uniforms.rasterSample + 1,
+               moving ? raster_.moves + 1 : 0,
+               uniforms.stillFrames};
   bool rayTraced = request.mode == RenderMode::RayTrace || request.mode == RenderMode::Reference;
   if (rayTraced) {
     accumulation_ = {true,

@@ -23,12 +23,12 @@ class HybridDof {
   // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays. view
   // other than Final draws that debug view instead of the composite (FocusZone over it).
   // traceEverywhere: a full
-  // mask (every pixel gets the full rays). startFrame() before record(): sameView when the
-  // frame's camera and lens are the previous frame's, so that the history may average over a
-  // longer window. advance(): once the frame is submitted.
+  // mask (every pixel gets the full rays). startFrame() before record(): the frames that the
+  // camera and lens have rested before this one (FrameUniforms::stillFrames), so that the
+  // history may average over a longer window. advance(): once the frame is submitted.
   void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
               bool traceEverywhere = false) const;
-  void startFrame(bool sameView) { stillFrames_ = sameView ? stillFrames_ + 1 : 0; }
+  void startFrame(uint32_t stillFrames) { stillFrames_ = stillFrames; }
   void advance();
   // The history set the last frame wrote (images.hybrid.history[current()]).
   uint32_t current() const { return current_; }

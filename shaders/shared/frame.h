@@ -44,7 +44,10 @@ struct FrameUniforms {
   uint samplesPerPixel;  // rays per pixel this frame
   uint lightCount;
   uint pixelJitter;  // 1: rays jittered over the pixel, 0: through pixel centres
-  uint unused4, unused5;
+  // Frames of this camera and lens before this one (0: a new view, or the lens just changed): a
+  // focus pull on a still view has a standing raster (rasterSample) but no resting rays.
+  uint stillFrames;
+  uint unused5;
 };
 
 // Which family of per-pixel sample sequences a ray tracer draws from (the salt of

@@ -32,8 +32,6 @@ Lens onSceneCameraSensor(Lens lens, const SceneCamera& camera, uint32_t width, u
   return lens;
 }
 
-namespace {
-
 FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   const SceneCamera* sceneCamera =
       spec.camera.empty() ? &scene.cameras.front() : scene.findCamera(spec.camera);
@@ -51,8 +49,6 @@ FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   request.settings.samplesPerPixel = spec.raysPerPixel;
   return request;
 }
-
-}  // namespace
 
 ImageRgba8 renderImage(const RenderSpec& spec) {
   SceneOnGpu& scene = testScene(spec.scene);

@@ -42,6 +42,8 @@ struct RenderSpec {
 // framing with the lens's blur, which these tests' expectations are worked out for.
 Lens onSceneCameraSensor(Lens lens, const SceneCamera& camera, uint32_t width, uint32_t height);
 
+// The frame request of the spec's first frame, its lens on the scene camera's sensor.
+FrameRequest requestFor(const RenderSpec& spec, const Scene& scene);
 ImageRgba8 renderImage(const RenderSpec& spec);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);

@@ -213,6 +213,35 @@ TEST(HybridMode, AStillViewKeepsImproving) {
   }
 }
 
+// A focus pull on a resting view (the raster stands, only the lens moves): the traced layers follow
+// the focus as they follow the image in motion, so that no frame of the pull shows the blur of a
+// focus the lens has left, and each is better than the post-process's.
+TEST(HybridMode, AFocusPullOnAStillViewFollowsTheFocus) {
+  RenderSpec spec = wideOpen();
+  spec.raysPerPixel = 4;
+  const ImageRgba8& reference = wideOpenReference();
+  SceneOnGpu& scene = testScene(spec.scene);
+  // The focus rests at 0.6 times the camera's until the raster has all its samples, then moves
+  // to 1.4 times it over 8 frames: the fourth of them is focused where the reference is.
+  auto midPull = [&](RenderMode mode) {
+    spec.mode = mode;
+    FrameRequest request = requestFor(spec, scene.scene);
+    const float focus = request.lens.focusDistance;
+    FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+    for (uint32_t frame = 0; frame < gpu::kMaxRasterSamples + 4; ++frame) {
+      uint32_t pulled = frame < gpu::kMaxRasterSamples ? 0 : frame + 1 - gpu::kMaxRasterSamples;
+      request.lens.focusDistance = focus * (0.6f + 0.1f * float(pulled));
+      request.settings.frameIndex = frame;
+      pipeline.render(request);
+    }
+    return compareImages(pipeline.image(), reference).psnrDb;
+  };
+  double postProcess = midPull(RenderMode::PostProcess);
+  double hybrid = midPull(RenderMode::Hybrid);
+  std::printf("in a focus pull: postprocess %.2f dB, hybrid %.2f dB\n", postProcess, hybrid);
+  EXPECT_GE(hybrid, postProcess);
+}
+
 // With every pixel traced, the hybrid is a ray tracer with a different reconstruction: its image
 // comes within 1 dB of raytrace's at the same rays against the reference, and close to it.
 TEST(HybridMode, WithAFullMaskMatchesRayTrace) {
