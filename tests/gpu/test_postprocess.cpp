@@ -139,6 +139,34 @@ TEST(PostProcess, InFocusWallStaysSharp) {
   EXPECT_GE(compareImages(frame.blurred, frame.sharp).psnrDb, 45.0);
 }
 
+// A surface just out of focus (a CoC under a pixel or two) is softer than the raster already: a
+// pixel's neighbours take a third of it at a 1 px CoC. The post-process's first frame shows that
+// softness, not the raster's sharp colour.
+TEST(PostProcess, ASurfaceJustOutOfFocusIsAsSoftAsTheLensMakesIt) {
+  constexpr uint32_t kWallWidth = 320, kWallHeight = 180;
+  PostProcessRig rig("builtin:wall", kWallWidth, kWallHeight);
+  rig.render(Lens{50.0f, 1.4f, 3.0f});
+  for (float coc : {0.5f, 1.0f, 2.0f}) {
+    // The wall stands square-on 3 m away: focused nearer, so that the wall's CoC is coc.
+    Lens lens{50.0f, 1.4f, 3.0f};
+    lens.focusDistance =
+        1.0f / (1.0f / 3.0f + coc / (lens.apertureDiameter() * rig.uniforms.focalLengthPixels));
+    PostProcessRig::Frame frame = rig.render(lens);
+    RenderSpec spec;
+    spec.scene = "builtin:wall";
+    spec.width = kWallWidth;
+    spec.height = kWallHeight;
+    spec.lens = lens;
+    spec.mode = RenderMode::Reference;
+    spec.raysPerPixel = 64;
+    ImageRgba8 reference = renderImage(spec);
+    double sharp = compareImages(frame.sharp, reference).psnrDb;
+    double blurred = compareImages(frame.blurred, reference).psnrDb;
+    std::printf("CoC %.1f px: the raster %.2f dB, the post-process %.2f dB\n", coc, sharp, blurred);
+    EXPECT_GT(blurred, sharp + 1.0) << "CoC " << coc;
+  }
+}
+
 TEST(PostProcess, OutOfFocusBlurs) {
   PostProcessRig rig("builtin:dof", 320, 180);
   PostProcessRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 0.0f});
