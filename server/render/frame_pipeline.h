@@ -121,7 +121,7 @@ class FramePipeline {
     Camera camera;
     Lens lens;
     uint32_t samples = 0;
-    uint32_t moves = 0;  // frames in motion since the view last rested or was cut
+    uint32_t moves = 0;        // frames in motion since the view last rested or was cut
     uint32_t stillFrames = 0;  // frames since the camera or the lens last changed
   } raster_;
 
