@@ -9,7 +9,8 @@ namespace hdof {
 
 namespace {
 
-// Root-to-leaf paths stay shorter than the traversal stack: deeper nodes become leaves.
+// Root-to-leaf paths stay shorter than the GPU traversal's stack: deeper nodes become leaves
+// (unless they hold more triangles than a leaf can).
 constexpr uint32_t kMaxDepth = gpu::kBvhStackSize - 1;
 constexpr uint32_t kMaxBins = 64;
 
@@ -58,12 +59,19 @@ class BvhBuilder {
       if (pending.count > maxLeafTriangles_ && pending.depth < kMaxDepth) {
         split = findSplit(pending.node, pending.first, pending.count);
       }
-      if (split.axis < 0) {
+      uint32_t leftCount = 0;
+      if (split.axis >= 0) {
+        leftCount = partition(pending.first, pending.count, split);
+      } else if (pending.count > gpu::kBvhMaxLeafTriangles) {
+        // More triangles than a leaf can hold (all in one place, or too deep): halve the range.
+        leftCount = pending.count / 2;
+        split.leftBounds = boundsOf(pending.first, leftCount);
+        split.rightBounds = boundsOf(pending.first + leftCount, pending.count - leftCount);
+      } else {
         nodes_[pending.node].leftOrFirst = pending.first;
         nodes_[pending.node].triangleCount = pending.count;
         continue;
       }
-      uint32_t leftCount = partition(pending.first, pending.count, split);
       uint32_t left = static_cast<uint32_t>(nodes_.size());
       nodes_[pending.node].leftOrFirst = left;
       nodes_[pending.node].triangleCount = 0;
@@ -96,6 +104,12 @@ class BvhBuilder {
       centroids_[t] = bounds.center();
       order_[t] = t;
     }
+  }
+
+  Aabb boundsOf(uint32_t first, uint32_t count) const {
+    Aabb bounds;
+    for (uint32_t i = first; i < first + count; ++i) bounds.grow(triangleBounds_[order_[i]]);
+    return bounds;
   }
 
   // The bin of a centroid along an axis; binning and partitioning must agree exactly.
@@ -193,6 +207,8 @@ Bvh buildBvh(const std::vector<gpu::Vertex>& vertices, const std::vector<uint32_
 
 namespace {
 
+Aabb nodeBounds(const gpu::BvhNode& node) { return {node.boundsMin, node.boundsMax}; }
+
 // Möller–Trumbore, double-sided: the GPU traversal uses the same expressions in the same order,
 // so both see the same hits.
 bool intersectTriangle(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& v0,
@@ -217,7 +233,8 @@ bool intersectTriangle(const glm::vec3& origin, const glm::vec3& direction, cons
   return true;
 }
 
-// Zero direction components become tiny ones, so the slab test never computes 0 * inf.
+}  // namespace
+
 glm::vec3 safeInverse(const glm::vec3& direction) {
   glm::vec3 inverse;
   for (int axis = 0; axis < 3; ++axis) {
@@ -227,20 +244,16 @@ glm::vec3 safeInverse(const glm::vec3& direction) {
   return inverse;
 }
 
-// Entry distance of the ray into a node's box, or infinity when it misses within (tMin, tMax).
-// The far distance is widened by a few ulps, so rounding cannot hide a triangle on the box's face.
-float enterBox(const gpu::BvhNode& node, const glm::vec3& origin, const glm::vec3& inverse,
-               float tMin, float tMax) {
-  glm::vec3 t0 = (node.boundsMin - origin) * inverse;
-  glm::vec3 t1 = (node.boundsMax - origin) * inverse;
+float enterBox(const Aabb& box, const glm::vec3& origin, const glm::vec3& inverse, float tMin,
+               float tMax) {
+  glm::vec3 t0 = (box.min - origin) * inverse;
+  glm::vec3 t1 = (box.max - origin) * inverse;
   glm::vec3 near = glm::min(t0, t1), far = glm::max(t0, t1);
   float enter = std::max(std::max(near.x, near.y), std::max(near.z, tMin));
   float exit = std::min(std::min(far.x, far.y), std::min(far.z, tMax));
   exit += std::abs(exit) * 4e-7f;
   return enter <= exit ? enter : std::numeric_limits<float>::infinity();
 }
-
-}  // namespace
 
 std::optional<RayHit> intersect(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& direction,
                                 float tMin, float tMax) {
@@ -250,10 +263,11 @@ std::optional<RayHit> intersect(const Bvh& bvh, const glm::vec3& origin, const g
   float closestT = tMax;
   RayHit candidate;
 
-  std::array<uint32_t, gpu::kBvhStackSize> stack;
+  std::vector<uint32_t> stack(bvh.depth);  // at most a node per level is pending
   uint32_t stackSize = 0;
   uint32_t node = 0;
-  if (std::isinf(enterBox(bvh.nodes[0], origin, inverse, tMin, closestT))) return std::nullopt;
+  if (std::isinf(enterBox(nodeBounds(bvh.nodes[0]), origin, inverse, tMin, closestT)))
+    return std::nullopt;
   while (true) {
     const gpu::BvhNode& current = bvh.nodes[node];
     if (current.triangleCount > 0) {
@@ -268,8 +282,8 @@ std::optional<RayHit> intersect(const Bvh& bvh, const glm::vec3& origin, const g
       }
     } else {
       uint32_t near = current.leftOrFirst, far = current.leftOrFirst + 1;
-      float enterNear = enterBox(bvh.nodes[near], origin, inverse, tMin, closestT);
-      float enterFar = enterBox(bvh.nodes[far], origin, inverse, tMin, closestT);
+      float enterNear = enterBox(nodeBounds(bvh.nodes[near]), origin, inverse, tMin, closestT);
+      float enterFar = enterBox(nodeBounds(bvh.nodes[far]), origin, inverse, tMin, closestT);
       if (enterFar < enterNear) {
         std::swap(near, far);
         std::swap(enterNear, enterFar);
@@ -284,7 +298,7 @@ std::optional<RayHit> intersect(const Bvh& bvh, const glm::vec3& origin, const g
     bool found = false;
     while (stackSize > 0 && !found) {
       node = stack[--stackSize];
-      found = !std::isinf(enterBox(bvh.nodes[node], origin, inverse, tMin, closestT));
+      found = !std::isinf(enterBox(nodeBounds(bvh.nodes[node]), origin, inverse, tMin, closestT));
     }
     if (!found) return closest;
   }

@@ -13,7 +13,7 @@ namespace hdof {
 struct Bvh {
   std::vector<gpu::BvhNode> nodes;          // node 0 is the root
   std::vector<gpu::BvhTriangle> triangles;  // in leaf order
-  uint32_t depth = 0;  // longest root-to-leaf path, in nodes; kept below gpu::kBvhStackSize
+  uint32_t depth = 0;                       // longest root-to-leaf path, in nodes
   double buildMs = 0.0;
 };
 
@@ -35,6 +35,14 @@ struct RayHit {
 std::optional<RayHit> intersect(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& direction,
                                 float tMin = 0.0f,
                                 float tMax = std::numeric_limits<float>::infinity());
+
+// The slab test of the traversals: the ray's entry distance into the box, or infinity when it
+// misses it within (tMin, tMax). The exit distance is widened by a few ulps, so that rounding
+// cannot hide a triangle lying in a face of the box. `inverse` is safeInverse(direction), whose
+// zero components become tiny ones, so that the test never computes 0 * inf.
+glm::vec3 safeInverse(const glm::vec3& direction);
+float enterBox(const Aabb& box, const glm::vec3& origin, const glm::vec3& inverse, float tMin,
+               float tMax);
 
 // The same query by testing every triangle: the reference for tests.
 std::optional<RayHit> intersectBruteForce(const std::vector<gpu::Vertex>& vertices,

@@ -1,6 +1,6 @@
-// The BVH in the layout the compute shaders traverse (gpu::BvhPairNode in shared/scene_data.h):
-// the built tree's nodes regrouped so that each GPU node holds the boxes of both children of one
-// interior node, and a single fetch tests both.
+// The BVH in the layout the compute shaders traverse (gpu::BvhWideNode in shared/scene_data.h):
+// the built binary tree collapsed into nodes of up to four children, whose boxes are quantised to
+// 8 bits per plane, so that a single 64-byte fetch tests four boxes.
 #pragma once
 
 #include "scene/bvh.h"
@@ -9,8 +9,14 @@
 
 namespace hdof {
 
-// Node 0 holds the root's children; a tree that is one leaf becomes a node whose second child is
-// an empty leaf. Leaves keep their triangle ranges in bvh.triangles.
-std::vector<gpu::BvhPairNode> packBvhPairNodes(const Bvh& bvh);
+// Node 0 holds the root's children; a tree that is one leaf becomes a node with that leaf as its
+// only child (none when it has no triangles). Leaves keep their triangle ranges in bvh.triangles.
+std::vector<gpu::BvhWideNode> packBvhWideNodes(const Bvh& bvh);
+
+// Child k of a packed node as the traversal reads it: its kind (gpu::kBvhInteriorChild,
+// gpu::kBvhEmptyChild or a leaf's triangle count), and its box decoded from the grid, which holds
+// the built tree's box.
+uint32_t wideChildInfo(const gpu::BvhWideNode& node, uint32_t k);
+Aabb wideChildBounds(const gpu::BvhWideNode& node, uint32_t k);
 
 }  // namespace hdof

@@ -143,7 +143,7 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
   lights_ = gpu::createBufferWithData(context, std::span(scene.lights),
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "scene lights");
-  bvhNodes_ = uploadTexels(context, packBvhPairNodes(bvh), "bvh nodes");
+  bvhNodes_ = uploadTexels(context, packBvhWideNodes(bvh), "bvh nodes");
   bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
   for (const gpu::Buffer* buffer :
        {&vertices_, &triangles_, &materials_, &bvhNodes_, &bvhTriangles_})

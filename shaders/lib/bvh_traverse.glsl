@@ -1,6 +1,7 @@
-// Closest-hit traversal of the scene BVH (binned SAH; each node holds both children's boxes), in
-// the while-while form of Aila & Laine 2009, with a per-thread stack and an overflow guard. Needs
-// lib/scene.glsl.
+// Closest-hit traversal of the scene BVH (binned SAH, collapsed into nodes of four children with
+// quantised boxes), in the while-while form of Aila & Laine 2009: interior children are visited
+// nearest first, the hit leaves of a node tested together, with a per-thread stack and an overflow
+// guard. Needs lib/scene.glsl.
 #ifndef HDOF_LIB_BVH_TRAVERSE_GLSL
 #define HDOF_LIB_BVH_TRAVERSE_GLSL
 
@@ -9,7 +10,6 @@
 // vector gathers, where it splits storage-buffer loads into a loop over the lanes.
 layout(set = 0, binding = kBindingBvhNodes) uniform usamplerBuffer bvhNodeTexels;
 layout(set = 0, binding = kBindingBvhTriangles) uniform usamplerBuffer bvhTriangleTexels;
-#define bvhNodeRows(i) uintBitsToFloat(texelFetch(bvhNodeTexels, int(i)))
 #define bvhTriangleRows(i) uintBitsToFloat(texelFetch(bvhTriangleTexels, int(i)))
 
 struct RayHit {
@@ -54,8 +54,20 @@ void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit
   }
 }
 
+// Orders two children by entry distance.
+void sortChildren(inout float entryA, inout uint linkA, inout float entryB, inout uint linkB) {
+  if (entryB < entryA) {
+    float entry = entryA;
+    entryA = entryB;
+    entryB = entry;
+    uint link = linkA;
+    linkA = linkB;
+    linkB = link;
+  }
+}
+
 // Returns true on a hit closer than tMax. `overflowed` reports a full stack (subtrees skipped):
-// the builder keeps the tree shallower than the stack, so this only guards against bad input.
+// trees of sane input stay well inside it, so this only guards against bad input.
 bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out bool overflowed) {
   hit.t = tMax;
   hit.triangle = 0xffffffffu;
@@ -69,36 +81,62 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
   float stackEntries[kBvhStackSize];
   uint stackSize = 0u;
   uint node = 0u;
-  bool traversing = true;  // node is a pair still to visit
+  bool traversing = true;  // node is an interior node still to visit
   while (true) {
     // Visit nodes until this lane has leaf triangles to test. The loop runs until every lane has
-    // some (or is done), so the triangle loop below keeps the lanes busy together; hit leaves of
-    // both children are tested in one loop.
-    uint count0 = 0u, count1 = 0u, first0 = 0u, first1 = 0u;
-    while (traversing && count0 + count1 == 0u) {
-      vec4 min0 = bvhNodeRows(node * 4u), max0 = bvhNodeRows(node * 4u + 1u);
-      vec4 min1 = bvhNodeRows(node * 4u + 2u), max1 = bvhNodeRows(node * 4u + 3u);
-      float enter0 = intersectBox(origin, inverseDirection, min0.xyz, max0.xyz, hit.t);
-      float enter1 = intersectBox(origin, inverseDirection, min1.xyz, max1.xyz, hit.t);
-      uint link0 = floatBitsToUint(min0.w), link1 = floatBitsToUint(min1.w);
-      bool leaf0 = (link0 & kBvhLeafBit) != 0u, leaf1 = (link1 & kBvhLeafBit) != 0u;
-      count0 = leaf0 && enter0 < kNoEntry ? floatBitsToUint(max0.w) : 0u;
-      count1 = leaf1 && enter1 < kNoEntry ? floatBitsToUint(max1.w) : 0u;
-      first0 = link0 & ~kBvhLeafBit;
-      first1 = link1 & ~kBvhLeafBit;
-      bool visit0 = !leaf0 && enter0 < kNoEntry, visit1 = !leaf1 && enter1 < kNoEntry;
-      if (visit0 && visit1) {
-        bool swap = enter1 < enter0;
-        if (stackSize < kBvhStackSize) {
-          stackNodes[stackSize] = swap ? link0 : link1;
-          stackEntries[stackSize] = swap ? enter0 : enter1;
+    // some (or is done), so the triangle loop below keeps the lanes busy together.
+    uvec4 leafFirst = uvec4(0u), leafCount = uvec4(0u);
+    while (traversing && leafCount == uvec4(0u)) {
+      uvec4 row0 = texelFetch(bvhNodeTexels, int(node * 4u));
+      uvec4 row1 = texelFetch(bvhNodeTexels, int(node * 4u + 1u));
+      uvec4 row2 = texelFetch(bvhNodeTexels, int(node * 4u + 2u));
+      uvec4 links = texelFetch(bvhNodeTexels, int(node * 4u + 3u));
+      vec3 gridOrigin = uintBitsToFloat(row0.xyz);
+      vec3 gridStep = uintBitsToFloat(((uvec3(row0.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+      uvec3 lows = row1.xyz, highs = uvec3(row1.w, row2.xy);
+      uvec4 info = (uvec4(row2.zz, row2.ww) >> uvec4(0u, 16u, 0u, 16u)) & 0xffffu;
+      vec4 entries;
+      for (uint k = 0u; k < kBvhWidth; ++k) {
+        uint shift = 8u * k;
+        vec3 boxMin = gridOrigin + vec3((lows >> shift) & 0xffu) * gridStep;
+        vec3 boxMax = gridOrigin + vec3((highs >> shift) & 0xffu) * gridStep;
+        entries[k] = info[k] == kBvhEmptyChild
+                         ? kNoEntry
+                         : intersectBox(origin, inverseDirection, boxMin, boxMax, hit.t);
+      }
+      bvec4 leaves = notEqual(info, uvec4(kBvhInteriorChild));
+      vec4 leafEntries = mix(entries, vec4(kNoEntry), not(leaves));
+      leafCount = mix(uvec4(0u), info, lessThan(leafEntries, vec4(kNoEntry)));
+      leafFirst = links;
+      // Interior children hit, nearest first (a sorting network over four).
+      vec4 inner = mix(entries, vec4(kNoEntry), leaves);
+      float e0 = inner.x, e1 = inner.y, e2 = inner.z, e3 = inner.w;
+      uint l0 = links.x, l1 = links.y, l2 = links.z, l3 = links.w;
+      sortChildren(e0, l0, e1, l1);
+      sortChildren(e2, l2, e3, l3);
+      sortChildren(e0, l0, e2, l2);
+      sortChildren(e1, l1, e3, l3);
+      sortChildren(e1, l1, e2, l2);
+      if (e0 < kNoEntry) {
+        // Push the others farthest first, so that the nearer pop first.
+        uint pushes = uint(e1 < kNoEntry) + uint(e2 < kNoEntry) + uint(e3 < kNoEntry);
+        if (stackSize + pushes > kBvhStackSize) overflowed = true;
+        if (e3 < kNoEntry && stackSize < kBvhStackSize) {
+          stackNodes[stackSize] = l3;
+          stackEntries[stackSize] = e3;
           ++stackSize;
-        } else {
-          overflowed = true;
         }
-        node = swap ? link1 : link0;
-      } else if (visit0 || visit1) {
-        node = visit0 ? link0 : link1;
+        if (e2 < kNoEntry && stackSize < kBvhStackSize) {
+          stackNodes[stackSize] = l2;
+          stackEntries[stackSize] = e2;
+          ++stackSize;
+        }
+        if (e1 < kNoEntry && stackSize < kBvhStackSize) {
+          stackNodes[stackSize] = l1;
+          stackEntries[stackSize] = e1;
+          ++stackSize;
+        }
+        node = l0;
       } else {
         traversing = false;
         while (stackSize > 0u && !traversing) {
@@ -108,9 +146,18 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
         }
       }
     }
-    if (count0 + count1 == 0u) break;
-    for (uint i = 0u; i < count0 + count1; ++i)
-      intersectTriangle(origin, direction, i < count0 ? first0 + i : first1 + (i - count0), hit);
+    uint total = leafCount.x + leafCount.y + leafCount.z + leafCount.w;
+    if (total == 0u) break;
+    // The hit leaves' triangles, one after the other.
+    uvec4 ends = leafCount;
+    ends.y += ends.x;
+    ends.z += ends.y;
+    ends.w += ends.z;
+    for (uint i = 0u; i < total; ++i) {
+      uint leaf = i < ends.x ? 0u : i < ends.y ? 1u : i < ends.z ? 2u : 3u;
+      intersectTriangle(origin, direction, leafFirst[leaf] + i - (ends[leaf] - leafCount[leaf]),
+                        hit);
+    }
   }
   return hit.triangle != 0xffffffffu;
 }

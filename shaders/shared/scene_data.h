@@ -15,7 +15,7 @@ HDOF_CONST uint kBindingVertices = 0;      // PackedVertex rows
 HDOF_CONST uint kBindingTriangles = 1;     // uvec4 per triangle: its three vertices and material
 HDOF_CONST uint kBindingMaterials = 2;     // PackedMaterial rows
 HDOF_CONST uint kBindingLights = 3;        // Light, a storage buffer (scalar layout)
-HDOF_CONST uint kBindingBvhNodes = 4;      // BvhPairNode, as an RGBA32UI uniform texel buffer
+HDOF_CONST uint kBindingBvhNodes = 4;      // BvhWideNode, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingBvhTriangles = 5;  // BvhTriangle, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingTextures = 6;      // one 2D array texture, a layer per scene texture
 
@@ -117,21 +117,27 @@ struct BvhTriangle {
   float pad1_;
 };
 
-// BVH node as the compute shaders traverse it: the boxes of both children of an interior node of
-// the built tree, so that one 64-byte fetch tests both. A child's `link` is the node holding its
-// own children, or kBvhLeafBit plus its first triangle in leaf order when it is a leaf of
-// triangleCount triangles. Node 0 holds the root's children.
-HDOF_CONST uint kBvhLeafBit = 0x80000000u;
+// BVH node as the compute shaders traverse it: up to four nodes of the built tree (an interior
+// node's children, the widest interior ones replaced by their own children), their boxes
+// quantised to 8 bits per plane on a grid that starts at `origin` and steps by a power of two per
+// axis (the compressed wide BVH of Ylitie et al. 2017). One 64-byte fetch tests four boxes; the
+// grid rounds every box outwards, never inwards. Child k is byte k of each quantised plane and 16
+// bits of childInfo (word k / 2, bits 16 * (k % 2)): kBvhInteriorChild for a node, whose index is
+// links[k]; kBvhEmptyChild for no child; otherwise a leaf of that many triangles starting at
+// links[k] in leaf order. Node 0 holds the root's children. Rows (16 bytes): origin and
+// exponents; lowX, lowY, lowZ, highX; highY, highZ and childInfo; links.
+HDOF_CONST uint kBvhWidth = 4;
+HDOF_CONST uint kBvhInteriorChild = 0u;
+HDOF_CONST uint kBvhEmptyChild = 0xffffu;
+HDOF_CONST uint kBvhMaxLeafTriangles = 0xfffeu;
 
-struct BvhChild {
-  vec3 boundsMin;
-  uint link;
-  vec3 boundsMax;
-  uint triangleCount;
-};
-
-struct BvhPairNode {
-  BvhChild children[2];
+struct BvhWideNode {
+  vec3 origin;
+  uint exponents;  // byte a: the grid's step along axis a, as the biased exponent of a float
+  uint lowX, lowY, lowZ;
+  uint highX, highY, highZ;
+  uint childInfo[2];
+  uint links[4];
 };
 
 HDOF_CONST uint kBvhStackSize = 64;
@@ -153,9 +159,10 @@ static_assert(sizeof(hdof::gpu::Light) == 52);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
 static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);
-static_assert(sizeof(hdof::gpu::BvhChild) == 32);
-static_assert(offsetof(hdof::gpu::BvhChild, boundsMax) == 16);
-static_assert(sizeof(hdof::gpu::BvhPairNode) == 64);
+static_assert(sizeof(hdof::gpu::BvhWideNode) == 64);
+static_assert(offsetof(hdof::gpu::BvhWideNode, lowX) == 16);
+static_assert(offsetof(hdof::gpu::BvhWideNode, highY) == 32);
+static_assert(offsetof(hdof::gpu::BvhWideNode, links) == 48);
 #endif
 
 #endif

@@ -126,6 +126,24 @@ Scene geometricStaircase(int triangleCount) {
   return scene;
 }
 
+TEST(Bvh, NoLeafHoldsMoreTrianglesThanTheGpuNodesCount) {
+  // Copies of one triangle: no split separates them, yet the leaves keep within the limit.
+  std::vector<gpu::Vertex> vertices(3);
+  vertices[1].position = {1, 0, 0};
+  vertices[2].position = {0, 1, 0};
+  std::vector<uint32_t> indices;
+  for (uint32_t copy = 0; copy < 3 * gpu::kBvhMaxLeafTriangles; ++copy)
+    indices.insert(indices.end(), {0, 1, 2});
+  Bvh bvh = buildBvh(vertices, indices);
+  size_t leafTriangles = 0;
+  for (const gpu::BvhNode& node : bvh.nodes) {
+    EXPECT_LE(node.triangleCount, gpu::kBvhMaxLeafTriangles);
+    leafTriangles += node.triangleCount;
+  }
+  EXPECT_EQ(leafTriangles, indices.size() / 3);
+  EXPECT_GT(bvh.nodes.size(), 1u);
+}
+
 TEST(Bvh, BuiltinSceneMatchesBruteForce) {
   Scene scene = makeBuiltinScene("dof");
   Bvh bvh = buildBvh(scene.vertices, scene.indices);

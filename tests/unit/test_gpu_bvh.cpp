@@ -2,67 +2,150 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <random>
+
 namespace hdof {
 namespace {
 
-// Walks the built tree and the packed one together: every interior node's children reappear, box
-// and leaf range unchanged, in exactly one packed node, and nothing else is packed.
-void expectSameTree(const Bvh& bvh, const std::vector<gpu::BvhPairNode>& pairs) {
-  std::vector<int> visits(pairs.size(), 0);
-  struct Visit {
-    uint32_t node, pair;
+const std::string kLivingRoom =
+    std::string(HDOF_ASSETS_DIR) + "/scenes/living-room/living-room.gltf";
+
+bool contains(const Aabb& outer, const Aabb& inner) {
+  return glm::all(glm::lessThanEqual(outer.min, inner.min)) &&
+         glm::all(glm::greaterThanEqual(outer.max, inner.max));
+}
+
+Aabb triangleBounds(const Scene& scene, const gpu::BvhTriangle& triangle) {
+  Aabb bounds;
+  for (int corner = 0; corner < 3; ++corner)
+    bounds.grow(scene.vertices[scene.indices[3 * triangle.index + corner]].position);
+  return bounds;
+}
+
+// Walks the packed tree: every node is reached once, every triangle slot of the built tree lies
+// in exactly one leaf, and each child's decoded box holds every triangle beneath it, exactly (the
+// grid rounds outwards), and exceeds their bounds by at most two grid steps per plane.
+void expectSameTreeInBoxesThatOnlyGrow(const Scene& scene, const Bvh& bvh,
+                                       const std::vector<gpu::BvhWideNode>& wide) {
+  std::vector<int> visits(wide.size(), 0), slots(bvh.triangles.size(), 0);
+  std::function<Aabb(uint32_t)> walk = [&](uint32_t index) {
+    Aabb all;
+    if (index >= wide.size()) {
+      ADD_FAILURE() << "link " << index << " past the last node";
+      return all;
+    }
+    ++visits[index];
+    const gpu::BvhWideNode& node = wide[index];
+    for (uint32_t k = 0; k < gpu::kBvhWidth; ++k) {
+      uint32_t info = wideChildInfo(node, k);
+      if (info == gpu::kBvhEmptyChild) continue;
+      Aabb beneath;
+      if (info == gpu::kBvhInteriorChild) {
+        beneath = walk(node.links[k]);
+      } else {
+        EXPECT_LE(size_t{node.links[k]} + info, bvh.triangles.size());
+        for (uint32_t slot = node.links[k]; slot < node.links[k] + info; ++slot) {
+          ++slots.at(slot);
+          beneath.grow(triangleBounds(scene, bvh.triangles[slot]));
+        }
+      }
+      Aabb box = wideChildBounds(node, k);
+      EXPECT_TRUE(contains(box, beneath)) << "node " << index << " child " << k;
+      for (int axis = 0; axis < 3; ++axis) {
+        float step = std::ldexp(1.0f, int((node.exponents >> (8 * axis)) & 0xffu) - 127);
+        EXPECT_GE(box.min[axis], beneath.min[axis] - 2.0f * step);
+        EXPECT_LE(box.max[axis], beneath.max[axis] + 2.0f * step);
+      }
+      all.grow(beneath);
+    }
+    return all;
   };
-  std::vector<Visit> stack{{0, 0}};
-  while (!stack.empty()) {
-    Visit visit = stack.back();
-    stack.pop_back();
-    ASSERT_LT(visit.pair, pairs.size());
-    ++visits[visit.pair];
-    for (uint32_t k = 0; k < 2; ++k) {
-      const gpu::BvhNode& node = bvh.nodes.at(bvh.nodes[visit.node].leftOrFirst + k);
-      const gpu::BvhChild& child = pairs[visit.pair].children[k];
-      EXPECT_EQ(child.boundsMin, node.boundsMin);
-      EXPECT_EQ(child.boundsMax, node.boundsMax);
-      EXPECT_EQ(child.triangleCount, node.triangleCount);
-      if (node.triangleCount > 0)
-        EXPECT_EQ(child.link, gpu::kBvhLeafBit | node.leftOrFirst);
-      else
-        stack.push_back({bvh.nodes[visit.node].leftOrFirst + k, child.link});
-    }
-  }
-  for (size_t i = 0; i < visits.size(); ++i) EXPECT_EQ(visits[i], 1) << "node " << i;
-  EXPECT_EQ(pairs.size(), (bvh.nodes.size() - 1) / 2);
+  walk(0);
+  for (size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << "node " << i;
+  for (size_t i = 0; i < slots.size(); ++i) ASSERT_EQ(slots[i], 1) << "slot " << i;
 }
 
-TEST(GpuBvh, PairNodesHoldTheSameTree) {
-  Scene scene = makeBuiltinScene("dof");
+TEST(GpuBvh, WideNodesHoldTheSameTreeInBoxesThatOnlyGrow) {
+  Scene dof = makeBuiltinScene("dof");
   for (BvhBuildOptions options : {BvhBuildOptions{}, BvhBuildOptions{4, 1}}) {
-    Bvh bvh = buildBvh(scene.vertices, scene.indices, options);
+    Bvh bvh = buildBvh(dof.vertices, dof.indices, options);
     ASSERT_GT(bvh.nodes.size(), 1u);
-    std::vector<gpu::BvhPairNode> pairs = packBvhPairNodes(bvh);
-    expectSameTree(bvh, pairs);
-    // Depth first: the first interior child's node comes right after its parent's.
-    const gpu::BvhChild& first = pairs[0].children[0];
-    if (first.triangleCount == 0) {
-      EXPECT_EQ(first.link, 1u);
+    expectSameTreeInBoxesThatOnlyGrow(dof, bvh, packBvhWideNodes(bvh));
+  }
+  Scene room = loadScene(kLivingRoom);
+  Bvh bvh = buildBvh(room.vertices, room.indices);
+  std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(bvh);
+  expectSameTreeInBoxesThatOnlyGrow(room, bvh, wide);
+  // Collapsed: a binary tree of n interior nodes becomes at most about n / 3 wide ones.
+  size_t interior = (bvh.nodes.size() - 1) / 2;
+  EXPECT_LT(wide.size(), interior / 2);
+}
+
+// The shader's traversal, reduced to its pruning: from the root, only children whose decoded box
+// the ray enters by the closest hit. The leaf holding the closest hit (found in the built
+// tree) must be among the leaves reached, for rays from everywhere in every direction.
+TEST(GpuBvh, ATraversalOfWideNodesReachesTheClosestHit) {
+  for (const Scene& scene : {makeBuiltinScene("dof"), loadScene(kLivingRoom)}) {
+    Bvh bvh = buildBvh(scene.vertices, scene.indices);
+    std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(bvh);
+    std::vector<uint32_t> slotOf(bvh.triangles.size());
+    for (uint32_t slot = 0; slot < bvh.triangles.size(); ++slot)
+      slotOf[bvh.triangles[slot].index] = slot;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::normal_distribution<float> gaussian;
+    glm::vec3 low = scene.bounds.min, span = scene.bounds.extent();
+    int hits = 0;
+    for (int ray = 0; ray < 2000; ++ray) {
+      glm::vec3 origin = low + span * glm::vec3(unit(random), unit(random), unit(random));
+      glm::vec3 direction(gaussian(random), gaussian(random), gaussian(random));
+      std::optional<RayHit> closest = intersect(bvh, origin, direction);
+      if (!closest) continue;
+      ++hits;
+      uint32_t target = slotOf[closest->triangle];
+      // Until the hit is found the traversal's reach is longer; a little past it covers rounding
+      // where the triangle lies in a face of its box.
+      float reach = closest->t * 1.00001f;
+      glm::vec3 inverse = safeInverse(direction);
+      bool reached = false;
+      std::vector<uint32_t> stack{0};
+      while (!stack.empty() && !reached) {
+        const gpu::BvhWideNode& node = wide[stack.back()];
+        stack.pop_back();
+        for (uint32_t k = 0; k < gpu::kBvhWidth; ++k) {
+          uint32_t info = wideChildInfo(node, k);
+          if (info == gpu::kBvhEmptyChild ||
+              std::isinf(enterBox(wideChildBounds(node, k), origin, inverse, 0.0f, reach)))
+            continue;
+          if (info == gpu::kBvhInteriorChild)
+            stack.push_back(node.links[k]);
+          else
+            reached |= target >= node.links[k] && target < node.links[k] + info;
+        }
+      }
+      ASSERT_TRUE(reached) << scene.name << " ray " << ray;
     }
+    EXPECT_GT(hits, 500) << scene.name;
   }
 }
 
-TEST(GpuBvh, ALeafRootGetsAnEmptySibling) {
+TEST(GpuBvh, ALeafRootIsTheOnlyChildOfNodeZero) {
   std::vector<gpu::Vertex> vertices(3);
   vertices[1].position = {1, 0, 0};
   vertices[2].position = {0, 1, 0};
-  std::vector<gpu::BvhPairNode> pairs = packBvhPairNodes(buildBvh(vertices, {0, 1, 2}));
-  ASSERT_EQ(pairs.size(), 1u);
-  EXPECT_EQ(pairs[0].children[0].link, gpu::kBvhLeafBit);
-  EXPECT_EQ(pairs[0].children[0].triangleCount, 1u);
-  EXPECT_EQ(pairs[0].children[1].triangleCount, 0u);
-  EXPECT_NE(pairs[0].children[1].link & gpu::kBvhLeafBit, 0u);
+  std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(buildBvh(vertices, {0, 1, 2}));
+  ASSERT_EQ(wide.size(), 1u);
+  EXPECT_EQ(wideChildInfo(wide[0], 0), 1u);
+  EXPECT_EQ(wide[0].links[0], 0u);
+  EXPECT_TRUE(contains(wideChildBounds(wide[0], 0), Aabb{{0, 0, 0}, {1, 1, 0}}));
+  for (uint32_t k = 1; k < gpu::kBvhWidth; ++k)
+    EXPECT_EQ(wideChildInfo(wide[0], k), gpu::kBvhEmptyChild);
 
-  std::vector<gpu::BvhPairNode> empty = packBvhPairNodes(buildBvh({}, {}));
+  std::vector<gpu::BvhWideNode> empty = packBvhWideNodes(buildBvh({}, {}));
   ASSERT_EQ(empty.size(), 1u);
-  EXPECT_EQ(empty[0].children[0].triangleCount + empty[0].children[1].triangleCount, 0u);
+  for (uint32_t k = 0; k < gpu::kBvhWidth; ++k)
+    EXPECT_EQ(wideChildInfo(empty[0], k), gpu::kBvhEmptyChild);
 }
 
 }  // namespace
