@@ -104,11 +104,8 @@ std::string checkDevice(VkPhysicalDevice device, const VkPhysicalDevicePropertie
     if (!present) return std::string("lacks the extension ") + required;
   }
 
-  VkPhysicalDeviceVulkan12Features features12{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   vkGetPhysicalDeviceFeatures2(device, &features);
-  if (!features12.scalarBlockLayout) return "lacks the scalarBlockLayout feature";
   if (!features.features.shaderStorageImageWriteWithoutFormat)
     return "lacks the shaderStorageImageWriteWithoutFormat feature";
   return "";
@@ -242,10 +239,7 @@ Context::Context(const ContextOptions& options) {
   queueInfo.queueFamilyIndex = queueFamily_;
   queueInfo.queueCount = 1;
   queueInfo.pQueuePriorities = &priority;
-  VkPhysicalDeviceVulkan12Features features12{
-      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  features12.scalarBlockLayout = VK_TRUE;
-  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.features.shaderStorageImageWriteWithoutFormat = VK_TRUE;
   VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, &features};
   deviceInfo.queueCreateInfoCount = 1;

@@ -141,12 +141,11 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   for (uint32_t index : scene.indices) corners.push_back(scene.vertices[index].position);
   corners_ = gpu::createBufferWithData(context, std::span<const glm::vec3>(corners),
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
-  lights_ = gpu::createBufferWithData(context, std::span(scene.lights),
-                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, "scene lights");
+  lights_ = uploadTexels(context, scene.lights, "scene lights");
   bvhNodes_ = uploadTexels(context, packBvhWideNodes(bvh), "bvh nodes");
   bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
   for (const gpu::Buffer* buffer :
-       {&vertices_, &triangles_, &materials_, &bvhNodes_, &bvhTriangles_})
+       {&vertices_, &triangles_, &materials_, &lights_, &bvhNodes_, &bvhTriangles_})
     texelViews_.push_back(createTexelView(context, *buffer, "texels"));
 
   textures_ = uploadTextureArray(context, scene.textures);
@@ -162,7 +161,6 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   VK_CHECK(vkCreateSampler(context.device(), &samplerInfo, nullptr, &sampler));
   sampler_ = gpu::Sampler(context.device(), sampler);
 
-  constexpr VkDescriptorType kBuffer = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   constexpr VkDescriptorType kTexels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   constexpr VkDescriptorType kSampled = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   static_assert(gpu::kBindingVertices == 0 && gpu::kBindingTriangles == 1 &&
@@ -170,13 +168,13 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
                 gpu::kBindingBvhNodes == 4 && gpu::kBindingBvhTriangles == 5 &&
                 gpu::kBindingTextures == 6);
   std::vector<VkDescriptorSetLayoutBinding> bindings;
-  for (VkDescriptorType type : {kTexels, kTexels, kTexels, kBuffer, kTexels, kTexels, kSampled})
+  for (VkDescriptorType type : {kTexels, kTexels, kTexels, kTexels, kTexels, kTexels, kSampled})
     bindings.push_back({uint32_t(bindings.size()), type, 1, gpu::kAllShaderStages, nullptr});
   setLayout_ = gpu::createSetLayout(context, std::move(bindings), false, "scene set");
-  VkDescriptorPoolSize sizes[] = {{kBuffer, 1}, {kTexels, 5}, {kSampled, 1}};
+  VkDescriptorPoolSize sizes[] = {{kTexels, 6}, {kSampled, 1}};
   VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   poolInfo.maxSets = 1;
-  poolInfo.poolSizeCount = 3;
+  poolInfo.poolSizeCount = 2;
   poolInfo.pPoolSizes = sizes;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VK_CHECK(vkCreateDescriptorPool(context.device(), &poolInfo, nullptr, &pool));
@@ -188,7 +186,6 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   allocInfo.pSetLayouts = &layout;
   VK_CHECK(vkAllocateDescriptorSets(context.device(), &allocInfo, &descriptorSet_));
 
-  VkDescriptorBufferInfo lightInfo = lights_.descriptor();
   VkDescriptorImageInfo imageInfo{sampler_, textures_.view(),
                                   VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   std::vector<VkBufferView> views;
@@ -202,15 +199,13 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
     return w;
   };
   std::vector<VkWriteDescriptorSet> writes;
-  const uint32_t texelBindings[] = {gpu::kBindingVertices, gpu::kBindingTriangles,
-                                    gpu::kBindingMaterials, gpu::kBindingBvhNodes,
-                                    gpu::kBindingBvhTriangles};
+  const uint32_t texelBindings[] = {gpu::kBindingVertices,  gpu::kBindingTriangles,
+                                    gpu::kBindingMaterials, gpu::kBindingLights,
+                                    gpu::kBindingBvhNodes,  gpu::kBindingBvhTriangles};
   for (size_t i = 0; i < views.size(); ++i) {
     writes.push_back(write(texelBindings[i], kTexels));
     writes.back().pTexelBufferView = &views[i];
   }
-  writes.push_back(write(gpu::kBindingLights, kBuffer));
-  writes.back().pBufferInfo = &lightInfo;
   writes.push_back(write(gpu::kBindingTextures, kSampled));
   writes.back().pImageInfo = &imageInfo;
   vkUpdateDescriptorSets(context.device(), static_cast<uint32_t>(writes.size()), writes.data(), 0,

@@ -21,9 +21,9 @@ class GpuScene {
   const gpu::Buffer& cornerBuffer() const { return corners_; }
 
  private:
-  gpu::Buffer vertices_, triangles_, materials_, bvhNodes_, bvhTriangles_;  // texel rows
-  std::vector<gpu::BufferView> texelViews_;  // of the five above, in that order
-  gpu::Buffer corners_, lights_;
+  gpu::Buffer vertices_, triangles_, materials_, lights_, bvhNodes_, bvhTriangles_;  // texel rows
+  std::vector<gpu::BufferView> texelViews_;  // of the six above, in that order
+  gpu::Buffer corners_;
   gpu::Image textures_;  // a 2D array, one layer per scene texture
   gpu::Sampler sampler_;
   gpu::SetLayout setLayout_;

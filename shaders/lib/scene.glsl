@@ -1,13 +1,12 @@
 // Set 0: the scene, as every step that reads it declares it.
 #ifndef HDOF_LIB_SCENE_GLSL
 #define HDOF_LIB_SCENE_GLSL
-#extension GL_EXT_scalar_block_layout : require
 #include "shared/scene_data.h"
 
 layout(set = 0, binding = kBindingVertices) uniform usamplerBuffer vertexTexels;
 layout(set = 0, binding = kBindingTriangles) uniform usamplerBuffer triangleTexels;
 layout(set = 0, binding = kBindingMaterials) uniform usamplerBuffer materialTexels;
-layout(set = 0, binding = kBindingLights, scalar) readonly buffer Lights { Light lights[]; };
+layout(set = 0, binding = kBindingLights) uniform usamplerBuffer lightTexels;
 // The BVH bindings are declared by lib/bvh_traverse.glsl, which alone reads them.
 
 // The three vertices (xyz) and the material (w) of an index-buffer triangle.
@@ -41,6 +40,21 @@ Material sceneMaterial(uint material) {
   m.baseColorTexture = row2.y;
   return m;
 }
+Light sceneLight(uint light) {
+  vec4 row0 = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u)));
+  vec4 row1 = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u + 1u)));
+  vec4 row2 = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u + 2u)));
+  Light l;
+  l.position = row0.xyz;
+  l.type = floatBitsToUint(row0.w);
+  l.direction = row1.xyz;
+  l.range = row1.w;
+  l.color = row2.xyz;
+  l.spotCosInner = row2.w;
+  l.spotCosOuter = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u + 3u)).x);
+  return l;
+}
+
 layout(set = 0, binding = kBindingTextures) uniform sampler2DArray textures;
 
 #endif

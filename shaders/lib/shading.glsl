@@ -76,7 +76,7 @@ vec3 shadeSurface(SurfacePoint s, vec3 toViewer, float footprint, out vec3 specu
   specular = ambient * f0 * (1.0 - 0.5 * roughness);
 
   for (uint i = 0; i < frame.lightCount; ++i) {
-    Light light = lights[i];
+    Light light = sceneLight(i);
     vec3 toLight;
     vec3 irradiance = light.color;
     if (light.type == kLightDirectional) {

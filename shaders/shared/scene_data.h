@@ -1,8 +1,8 @@
 // Scene data as the GPU sees it: one world-space vertex/index soup, the same triangles in BVH
 // leaf order for traversal, materials, punctual lights. What shaders read per pixel or per ray
-// (vertices, triangles, materials, the BVH) lives in RGBA32UI uniform texel buffers as rows of
-// 16 bytes: one typed load per row, through the texture cache on GPUs, and a vector gather on
-// lavapipe (which loops over the lanes for storage-buffer loads). The C++ side asserts layouts.
+// (vertices, triangles, materials, lights, the BVH) lives in RGBA32UI uniform texel buffers as
+// rows of 16 bytes: one typed load per row, through the texture cache on GPUs, and a vector gather
+// on lavapipe (which loops over the lanes for storage-buffer loads). The C++ side asserts layouts.
 #ifndef HDOF_SHARED_SCENE_DATA_H
 #define HDOF_SHARED_SCENE_DATA_H
 #include "types.h"
@@ -14,7 +14,7 @@ HDOF_CONST uint kSceneSet = 0;
 HDOF_CONST uint kBindingVertices = 0;      // PackedVertex rows
 HDOF_CONST uint kBindingTriangles = 1;     // uvec4 per triangle: its three vertices and material
 HDOF_CONST uint kBindingMaterials = 2;     // PackedMaterial rows
-HDOF_CONST uint kBindingLights = 3;        // Light, a storage buffer (scalar layout)
+HDOF_CONST uint kBindingLights = 3;        // Light rows
 HDOF_CONST uint kBindingBvhNodes = 4;      // BvhWideNode, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingBvhTriangles = 5;  // BvhTriangle, as an RGBA32UI uniform texel buffer
 HDOF_CONST uint kBindingTextures = 6;      // one 2D array texture, a layer per scene texture
@@ -93,6 +93,7 @@ struct Light {
   vec3 color;      // colour times intensity (lux for directional, candela otherwise)
   float spotCosInner;
   float spotCosOuter;
+  uint unused[3];  // rows are 16 bytes
 };
 
 // BVH node as built on the CPU: an interior node's children are nodes leftOrFirst and
@@ -155,7 +156,8 @@ static_assert(offsetof(hdof::gpu::PackedVertex, uv) == 16);
 static_assert(sizeof(hdof::gpu::PackedMaterial) == 48);
 static_assert(offsetof(hdof::gpu::PackedMaterial, emissive) == 16);
 static_assert(offsetof(hdof::gpu::PackedMaterial, roughness) == 32);
-static_assert(sizeof(hdof::gpu::Light) == 52);
+static_assert(sizeof(hdof::gpu::Light) == 64);
+static_assert(offsetof(hdof::gpu::Light, color) == 32);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
 static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);

@@ -80,7 +80,7 @@ TEST(ShaderInterface, HybridTraceReadsTheScene) {
   expectBinding(shader, "vertexTexels", 0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   expectBinding(shader, "triangleTexels", 0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   expectBinding(shader, "materialTexels", 0, 2, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
-  expectBinding(shader, "Lights", 0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  expectBinding(shader, "lightTexels", 0, 3, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   expectBinding(shader, "bvhNodeTexels", 0, 4, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   expectBinding(shader, "bvhTriangleTexels", 0, 5, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
   expectBinding(shader, "textures", 0, 6, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
