@@ -40,6 +40,7 @@ Material sceneMaterial(uint material) {
   m.baseColorTexture = row2.y;
   return m;
 }
+
 Light sceneLight(uint light) {
   vec4 row0 = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u)));
   vec4 row1 = uintBitsToFloat(texelFetch(lightTexels, int(light * 4u + 1u)));
