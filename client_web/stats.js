@@ -1,5 +1,5 @@
 // A pane's label and stats overlay: the pane's mode and what its picture is doing (moving at a
-// lower resolution, refining, converged), and, collapsible, frame rate, the daemon's GPU and
+// lower resolution, refining, converged), and, collapsible, frame rate, the daemon's render and
 // encode times, frame size and bitrate, latencies, round trip, dropped frames, rays and the ray
 // mask's coverage, with a plot of the time between frames shown that scales to fit them.
 
@@ -11,7 +11,7 @@ const PLOT = { width: 240, height: 84, left: 34, bottom: 14, top: 12 };
 const FIELDS = [
   ['fps', 'Frames shown', 'frames shown in the last second'],
   ['size', 'Picture', 'the frame\'s size in pixels'],
-  ['gpu', 'GPU time', 'the daemon\'s GPU time for the frame'],
+  ['gpu', 'Render time', 'the daemon\'s wall-clock time to render the frame; its steps\' added up'],
   ['steps', 'Costliest steps', 'the render steps that took longest on the GPU'],
   ['encode', 'JPEG encode', 'the daemon\'s time to compress the frame'],
   ['bytes', 'Frame', 'the compressed frame and its JPEG quality (lower while moving)'],
@@ -112,7 +112,8 @@ export class StatsOverlay {
     this.field('state', state);
     this.field('fps', `${this.shownAt.filter((t) => t >= now - 1000).length} per second`);
     this.field('size', `${frame.width}×${frame.height} px`);
-    this.field('gpu', ms(s.gpu_ms));
+    const stepsMs = ms(s.gpu_ms);
+    this.field('gpu', s.render_ms === undefined ? stepsMs : `${ms(s.render_ms)} (steps ${stepsMs})`);
     const steps = Object.entries(s.passes_ms ?? {}).sort((a, b) => b[1] - a[1]);
     const lines = steps.slice(0, SHOWN_STEPS).map(([step, t]) => `${step} ${ms(t)}`);
     if (steps.length > SHOWN_STEPS) lines.push(`and ${steps.length - SHOWN_STEPS} other steps`);

@@ -157,6 +157,7 @@ std::string frameStatsJson(const FrameStatsMessage& stats) {
                   {"mode", stats.mode},
                   {"passes_ms", passes},
                   {"gpu_ms", stats.gpuMs},
+                  {"render_ms", stats.renderMs},
                   {"rays_shot", stats.raysShot},
                   {"mask_coverage", stats.maskCoverage},
                   {"encode_ms", stats.encodeMs},

@@ -57,6 +57,7 @@ struct FrameStatsMessage {
   std::string mode;
   std::vector<std::pair<std::string, double>> passesMs;
   double gpuMs = 0.0;
+  double renderMs = 0.0;  // wall clock, submit to finish
   uint64_t raysShot = 0;
   double maskCoverage = 0.0;
   double encodeMs = 0.0;

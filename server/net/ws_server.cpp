@@ -654,6 +654,7 @@ int WsServer::writeFrame(lws* wsi, Connection& c) {
   stats.mode = modeName(request.mode);
   stats.passesMs = frame.stats.passMs;
   stats.gpuMs = frame.stats.gpuMs;
+  stats.renderMs = frame.stats.wallMs;
   stats.raysShot = frame.stats.raysShot;
   stats.maskCoverage = frame.stats.maskCoverage;
   stats.encodeMs = frame.jpeg.encodeMs;
