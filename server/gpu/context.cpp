@@ -108,6 +108,19 @@ std::string checkDevice(VkPhysicalDevice device, const VkPhysicalDevicePropertie
   vkGetPhysicalDeviceFeatures2(device, &features);
   if (!features.features.shaderStorageImageWriteWithoutFormat)
     return "lacks the shaderStorageImageWriteWithoutFormat feature";
+
+  // The ray mask's compaction and the selective trace share work across a subgroup.
+  VkPhysicalDeviceSubgroupProperties subgroup{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+                                          &subgroup};
+  vkGetPhysicalDeviceProperties2(device, &properties2);
+  constexpr VkSubgroupFeatureFlags kSubgroupOperations =
+      VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT |
+      VK_SUBGROUP_FEATURE_SHUFFLE_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT;
+  if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+      (subgroup.supportedOperations & kSubgroupOperations) != kSubgroupOperations)
+    return "lacks subgroup ballot, arithmetic or shuffle operations in compute shaders";
   return "";
 }
 

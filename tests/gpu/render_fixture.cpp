@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <glm/gtc/packing.hpp>
+#include <stdexcept>
 
 namespace hdof::test {
 
@@ -83,20 +84,26 @@ std::vector<uint8_t> occlusionRegion(const RenderSpec& spec) {
 }
 
 std::vector<glm::vec4> readImage(const gpu::Image& image) {
-  bool half = image.desc().format == VK_FORMAT_R16G16B16A16_SFLOAT;
+  VkFormat format = image.desc().format;
+  size_t texelBytes = format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8
+                      : format == VK_FORMAT_R16G16_SFLOAT     ? 4
+                      : format == VK_FORMAT_R32G32B32A32_SFLOAT
+                          ? 16
+                          : throw std::invalid_argument("readImage: unsupported format");
   size_t texels = size_t(image.width()) * image.height();
-  gpu::Buffer buffer(testContext(), texels * (half ? 8 : 16), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+  gpu::Buffer buffer(testContext(), texels * texelBytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                      gpu::MemoryUse::Readback, "test readback");
   testContext().submitAndWait(
       [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, image, buffer); });
   std::vector<glm::vec4> out(texels);
+  const auto* words = static_cast<const uint32_t*>(buffer.mapped());
   for (size_t i = 0; i < texels; ++i) {
-    if (half) {
-      const auto* words = static_cast<const uint32_t*>(buffer.mapped()) + i * 2;
-      out[i] = glm::vec4(glm::unpackHalf2x16(words[0]), glm::unpackHalf2x16(words[1]));
-    } else {
+    if (texelBytes == 8)
+      out[i] = glm::vec4(glm::unpackHalf2x16(words[2 * i]), glm::unpackHalf2x16(words[2 * i + 1]));
+    else if (texelBytes == 4)
+      out[i] = glm::vec4(glm::unpackHalf2x16(words[i]), 0.0f, 0.0f);
+    else
       out[i] = static_cast<const glm::vec4*>(buffer.mapped())[i];
-    }
   }
   return out;
 }

@@ -35,23 +35,27 @@ struct TraceRig {
     std::memcpy(uniforms.mapped(), &u, sizeof(u));
   }
 
-  // Lists the pixels for which keep(x, y) holds, with `rays` rays each, and traces them.
-  template <typename Keep>
-  void trace(uint32_t rays, Keep keep) {
+  // Lists every pixel with raysOf(x, y) > 0, with that many rays, and traces them from each
+  // pixel's first sample.
+  template <typename RaysOf>
+  void trace(RaysOf raysOf) {
     auto* header = static_cast<gpu::RayWorkHeader*>(workList.mapped());
     auto* entries = reinterpret_cast<glm::uvec2*>(header + 1);
     uint32_t count = 0;
     for (uint32_t y = 0; y < kHeight; ++y)
       for (uint32_t x = 0; x < kWidth; ++x)
-        if (keep(x, y)) entries[count++] = {gpu::packRayWorkPixel(x, y), rays};
+        if (uint32_t rays = raysOf(x, y)) entries[count++] = {gpu::packRayWorkPixel(x, y), rays};
     *header = {(count + gpu::kRayWorkGroupSize - 1) / gpu::kRayWorkGroupSize, 1, 1, count};
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
       for (const gpu::Image* image :
            {&layers.nearLayer, &layers.farLayer, &layers.farPosition, &layers.layerCoc}) {
         VkClearColorValue sentinel{{-1.0f, -1.0f, -1.0f, -1.0f}};
-        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
         vkCmdClearColorImage(cmd, image->get(), VK_IMAGE_LAYOUT_GENERAL, &sentinel, 1, &range);
       }
+      VkClearColorValue noSamples{};
+      vkCmdClearColorImage(cmd, layers.samplesTraced.get(), VK_IMAGE_LAYOUT_GENERAL, &noSamples, 1,
+                           &range);
       gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
       timer.reset(cmd);
@@ -70,7 +74,7 @@ struct TraceRig {
 
 TEST(HybridTrace, WritesOnlyListedPixelsAndSplitsNearFromFar) {
   TraceRig rig;
-  rig.trace(64, [](uint32_t, uint32_t y) { return y % 2 == 0; });
+  rig.trace([](uint32_t, uint32_t y) { return y % 2 == 0 ? 64u : 0u; });
   std::vector<glm::vec4> nearLayer = readImage(rig.layers.nearLayer);
   std::vector<float> depth = renderDepth({"builtin:dof", "", RenderMode::Pinhole, kWidth, kHeight});
   int nearInterior = 0, farOpen = 0;
@@ -102,6 +106,43 @@ TEST(HybridTrace, WritesOnlyListedPixelsAndSplitsNearFromFar) {
     }
   EXPECT_GT(nearInterior, 3);
   EXPECT_GT(farOpen, 10);
+}
+
+// A subgroup's lanes share out its pixels' rays: what a pixel's layers hold depends on its own
+// rays only, not on how many its neighbours in the list ask for.
+TEST(HybridTrace, APixelsLayersDoNotDependOnItsNeighboursRayCounts) {
+  TraceRig rig;
+  auto raysOf = [](uint32_t x, uint32_t y) { return (x * 7 + y * 3 + x / 5) % 5; };  // 0 to 4
+  rig.trace(raysOf);
+  std::vector<std::vector<glm::vec4>> mixed;
+  for (const gpu::Image* image :
+       {&rig.layers.nearLayer, &rig.layers.farLayer, &rig.layers.farPosition, &rig.layers.layerCoc})
+    mixed.push_back(readImage(*image));
+  int compared = 0;
+  for (uint32_t rays = 1; rays <= 4; ++rays) {
+    rig.trace([&](uint32_t x, uint32_t y) { return raysOf(x, y) == rays ? rays : 0u; });
+    size_t layer = 0;
+    for (const gpu::Image* image : {&rig.layers.nearLayer, &rig.layers.farLayer,
+                                    &rig.layers.farPosition, &rig.layers.layerCoc}) {
+      std::vector<glm::vec4> alone = readImage(*image);
+      for (uint32_t y = 0; y < kHeight; ++y)
+        for (uint32_t x = 0; x < kWidth; ++x) {
+          if (raysOf(x, y) != rays) continue;
+          size_t i = size_t(y) * kWidth + x;
+          for (int c = 0; c < 4; ++c)
+            ASSERT_NEAR(mixed[layer][i][c], alone[i][c], 1e-3f * (1.0f + std::abs(alone[i][c])))
+                << "layer " << layer << " channel " << c << " at " << x << "," << y << " (" << rays
+                << " rays)";
+          ++compared;
+        }
+      ++layer;
+    }
+  }
+  int listed = 0;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) listed += raysOf(x, y) > 0;
+  EXPECT_EQ(compared, 4 * listed);
+  EXPECT_GT(listed, int(kWidth * kHeight / 2));
 }
 
 }  // namespace
