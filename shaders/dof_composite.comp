@@ -1,32 +1,19 @@
-// Post-process DoF (stage 2), composite (full resolution): the sharp colour where the CoC is
-// nothing (on a still view, under kSubPixelBlurCoc; in motion, a pixel); up to kDofSmallBlurCoc a full-resolution blur, with the small near blurs in front
-// spread over it; beyond, the far layer, blended in as |CoC| grows; then the near layer over
-// everything, with its opacity (over in-focus pixels too: the blurred silhouette of a near object
-// spreads).
-// Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3
-// half-resolution pixels around it: 9 loads per layer instead of 16.
+// Post-process DoF (stage 2), composite of the tiles with full-resolution blurs (the front of the
+// tile lists, see lib/dof_composite.glsl): the sharp colour where the CoC is nothing (on a still
+// view, under kDofSubPixelBlurCoc; in motion, a pixel); up to kDofSmallBlurCoc a full-resolution
+// blur, with the small near blurs in front spread over it; beyond, the far layer, blended in as
+// |CoC| grows; then the near layer over everything, with its opacity.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-layout(local_size_x = 8, local_size_y = 8) in;
 
-#include "lib/frame.glsl"
-#include "lib/dof.glsl"
-
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
-layout(set = 1, binding = 2, r16f) uniform readonly image2D cocImage;
-layout(set = 1, binding = 3, rgba16f) uniform readonly image2D farLayer;  // a: CoC
-layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // premultiplied
-layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
-layout(set = 1, binding = 6, rgba16f) uniform writeonly image2D result;
+#include "lib/dof_composite.glsl"
 
 // The small blurs below read kSmallBlurReach pixels around a pixel: discs up to a radius of
 // kSmallBlurReach + 0.5 (the CoC kDofSmallBlurCoc), which no pixel beyond that reach overlaps.
 const int kSmallBlurReach = int(0.5 * kDofSmallBlurCoc);
 const float kSmallBlurRadius = float(kSmallBlurReach) + 0.5;
 const int kWindow = 2 + 2 * kSmallBlurReach;
-// The smallest CoC blurred on a still view (px); below it the sharp colour is within 3%.
-const float kSubPixelBlurCoc = 0.1;
 
 // The full-resolution colour and CoC of the pixels around a quad that the small blurs of its
 // four pixels read.
@@ -42,8 +29,9 @@ void loadWindow(ivec2 first, bool wide) {
     ivec2 inWindow = ivec2(j % kWindow, j / kWindow);
     if (!wide && any(greaterThan(abs(2 * inWindow - (kWindow - 1)), ivec2(3)))) continue;
     ivec2 source = clamp(first + inWindow - kSmallBlurReach, ivec2(0), last);
-    windowColor[j] = imageLoad(color, source).rgb;
-    windowCoc[j] = imageLoad(cocImage, source).r;
+    vec4 texel = texelFetch(colorCoc, source, 0);
+    windowColor[j] = texel.rgb;
+    windowCoc[j] = texel.a;
     windowReach[j] = 0.5 * abs(windowCoc[j]);
     windowDensity[j] = 1.0 / max(kPi * windowReach[j] * windowReach[j], 1.0);
   }
@@ -75,7 +63,7 @@ float subPixelDiscWeight(bool diagonal, float r) {
 // the pixels next to the quad.
 vec3 smallBlur(ivec2 offset, float coc, vec3 sharp, bool subPixel, bool wide) {
   float radius = min(0.5 * abs(coc), kSmallBlurRadius);
-  if (radius < (subPixel ? 0.5 * kSubPixelBlurCoc : 0.5)) return sharp;
+  if (radius < (subPixel ? 0.5 * kDofSubPixelBlurCoc : 0.5)) return sharp;
   vec4 sum = vec4(sharp, 1.0);
   vec4 behind = vec4(0.0);
   float covered = 1.0 / max(kPi * radius * radius, 1.0);
@@ -128,85 +116,43 @@ vec4 smallNearSpread(ivec2 offset, float coc) {
 }
 
 void main() {
-  ivec2 quad = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 first = quad * 2;
+  ivec2 quad = listedQuad(true);
   ivec2 size = ivec2(frame.imageSize);
-  if (any(greaterThanEqual(first, size))) return;
-  vec3 sharp[4];
-  float coc[4];
-  float blur[4];
-  bool anyBlur = false;
-  [[unroll]] for (int i = 0; i < 4; ++i) {
-    ivec2 pixel = min(first + ivec2(i & 1, i >> 1), size - 1);
-    sharp[i] = imageLoad(color, pixel).rgb;
-    coc[i] = imageLoad(cocImage, pixel).r;
-    blur[i] = halfResAmount(coc[i]);
-    anyBlur = anyBlur || blur[i] > 0.0;
-  }
-  bool withNear = imageLoad(dilatedTiles, first / int(kDofTileSize)).y <= -kDofFocusZone;
+  CompositeQuad q = loadQuad(quad);
   // Blurs under a pixel's width on a still view (in motion, the reprojected anti-aliasing history
   // is already about that soft).
   bool subPixel = frame.previousViewProj == frame.viewProj;
-  float minBlur = subPixel ? kSubPixelBlurCoc : 1.0;
+  float minBlur = subPixel ? kDofSubPixelBlurCoc : 1.0;
   bool anySmallBlur = false;
   [[unroll]] for (int i = 0; i < 4; ++i)
-    anySmallBlur = anySmallBlur || (abs(coc[i]) >= minBlur && blur[i] < 1.0);
-
-  vec4 far[9];
-  vec4 near[9];
-  if (anyBlur || withNear) {
-    ivec2 halfLast = imageSize(farLayer) - 1;
-    [[unroll]] for (int j = 0; j < 9; ++j) {
-      ivec2 source = clamp(quad + ivec2(j % 3 - 1, j / 3 - 1), ivec2(0), halfLast);
-      far[j] = imageLoad(farLayer, source);
-      if (withNear) near[j] = imageLoad(nearLayer, source);
-    }
-  }
+    anySmallBlur = anySmallBlur || (abs(q.coc[i]) >= minBlur && q.blur[i] < 1.0);
   // Whether a small near blur may spread over the quad: the 3x3 half-resolution pixels cover the
   // small blurs' window, each with the nearest CoC of its 2x2 pixels.
   bool anySmallNear = false;
-  if (withNear) {
+  if (q.withNear) {
     [[unroll]] for (int j = 0; j < 9; ++j)
-      anySmallNear = anySmallNear || (far[j].a <= -kDofFocusZone && far[j].a > -kDofHalfResCoc);
+      anySmallNear = anySmallNear || (q.far[j].a <= -kDofFocusZone && q.far[j].a > -kDofHalfResCoc);
   }
   // Blurs that read past the pixels next to the quad: a radius from 1.5 px, a near-field pixel's
   // cover, the near spread.
   bool wide = anySmallNear;
-  [[unroll]] for (int i = 0; i < 4; ++i) wide = wide || abs(coc[i]) >= 3.0 || coc[i] <= -1.0;
-  if (anySmallBlur || anySmallNear) loadWindow(first, wide);
+  [[unroll]] for (int i = 0; i < 4; ++i) wide = wide || abs(q.coc[i]) >= 3.0 || q.coc[i] <= -1.0;
+  if (anySmallBlur || anySmallNear) loadWindow(q.first, wide);
 
   [[unroll]] for (int i = 0; i < 4; ++i) {
     ivec2 offset = ivec2(i & 1, i >> 1);
-    ivec2 pixel = first + offset;
+    ivec2 pixel = q.first + offset;
     if (any(greaterThanEqual(pixel, size))) continue;
-    // A pixel centre lies a quarter of a half-resolution pixel inside the 2x2 half-resolution
-    // pixels from offset to offset + 1 of the 3x3: bilinear weights 3/4 and 1/4.
-    vec4 farSum = vec4(0.0);
-    vec4 nearSum = vec4(0.0);
-    [[unroll]] for (int k = 0; k < 4; ++k) {
-      ivec2 corner = ivec2(k & 1, k >> 1);
-      int j = (offset.y + corner.y) * 3 + offset.x + corner.x;
-      vec2 axes = mix(vec2(0.75), vec2(0.25), equal(corner, offset));
-      float bilinear = axes.x * axes.y;
-      if (anyBlur) {
-        // Far colour only from half-resolution pixels of a similar CoC, so it neither brings
-        // sharp colour into the blur nor blur across a depth edge.
-        float weight = bilinear * cocSimilarity(far[j].a, coc[i]);
-        farSum += vec4(far[j].rgb, 1.0) * weight;
-      }
-      if (withNear) nearSum += near[j] * bilinear;
-    }
-    // Where no half-resolution pixel nearby has this pixel's CoC (a thin gap between in-focus
-    // objects, which the downsample's nearest CoC closes), the sharp colour stands in.
-    float farAmount = blur[i] * saturate(farSum.w * 4.0);
-    vec3 near = anySmallBlur && farAmount < 1.0
-                    ? smallBlur(offset, coc[i], sharp[i], subPixel, wide)
-                    : sharp[i];
-    vec3 background = farAmount > 0.0 ? mix(near, farSum.rgb / farSum.w, farAmount) : near;
+    vec4 far, near;
+    halfResLayers(q, i, far, near);
+    vec3 behind = anySmallBlur && far.a < 1.0
+                      ? smallBlur(offset, q.coc[i], q.sharp[i], subPixel, wide)
+                      : q.sharp[i];
+    vec3 background = overFarLayer(behind, far);
     if (anySmallNear) {
-      vec4 smallNear = smallNearSpread(offset, coc[i]);
+      vec4 smallNear = smallNearSpread(offset, q.coc[i]);
       background = background * (1.0 - smallNear.a) + smallNear.rgb;
     }
-    imageStore(result, pixel, vec4(background * (1.0 - nearSum.a) + nearSum.rgb, 1.0));
+    storeComposite(pixel, background, near);
   }
 }

@@ -10,7 +10,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
 
-layout(set = 1, binding = 1, rg16f) uniform readonly image2D tiles;
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D tiles;
 layout(set = 1, binding = 2, rg16f) uniform writeonly image2D dilated;
 
 void main() {

@@ -1,7 +1,8 @@
-// Post-process DoF (stage 2), CoC and downsample: the signed CoC of every pixel (full resolution),
-// and colour and CoC at half resolution. The CoC of a 2x2 block is its nearest, so near silhouettes
-// grow rather than shrink; colours are weighted by how close their CoC is to it, so in-focus colour
-// does not bleed into the blur of a near object.
+// Post-process DoF (stage 2), CoC and downsample: the signed CoC of every pixel beside its colour
+// (full resolution, for the tiles and the composite), and colour and CoC at half resolution. The
+// CoC of a 2x2 block is its nearest, so near silhouettes grow rather than shrink; colours are
+// weighted by how close their CoC is to it, so in-focus colour does not bleed into the blur of a
+// near object.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -12,7 +13,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
 layout(set = 1, binding = 2, rgba32f) uniform readonly image2D normalDepth;
-layout(set = 1, binding = 3, r16f) uniform writeonly image2D cocImage;
+layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D colorCoc;  // a: CoC
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  // a: CoC
 
 void main() {
@@ -28,7 +29,7 @@ void main() {
     source = min(source, size - 1);
     colors[i] = imageLoad(color, source).rgb;
     cocs[i] = signedCoc(imageLoad(normalDepth, source).w);
-    if (inside) imageStore(cocImage, source, vec4(cocs[i]));
+    if (inside) imageStore(colorCoc, source, vec4(colors[i], cocs[i]));
     nearest = min(nearest, cocs[i]);
   }
   vec4 sum = vec4(0.0);

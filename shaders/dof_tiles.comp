@@ -1,7 +1,9 @@
 // Post-process DoF (stage 2), tiles: per tile of kDofTileSize pixels, the largest |CoC| and the
-// nearest (most negative) CoC. One thread per tile: a workgroup-wide reduction with barriers costs
-// more on a CPU device than these few loads. The ray mask (stage 3) runs it on its edges' reach
-// too, as the step ray_mask_tiles.
+// nearest (most negative) CoC, and for the composite's tile lists (dof_tile_lists.comp) whether a
+// pixel's |CoC| is in the range of the composite's full-resolution blurs (z) and whether a pixel
+// has a small near-field blur (w), 1 or 0. One thread per tile: a workgroup-wide reduction with
+// barriers costs more on a CPU device than these few loads. The ray mask (stage 3) runs it on its
+// edges' reach too, as the step ray_mask_tiles (x alone).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -10,8 +12,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
 
-layout(set = 1, binding = 1, r16f) uniform readonly image2D cocImage;
-layout(set = 1, binding = 2, rg16f) uniform writeonly image2D tiles;
+layout(set = 1, binding = 1) uniform sampler2D cocImage;  // any float format
+
+layout(push_constant) uniform Push {
+  uint channel;  // the channel of cocImage that holds the CoC
+} push;
+layout(set = 1, binding = 2, rgba16f) uniform writeonly image2D tiles;
 
 void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
@@ -20,12 +26,15 @@ void main() {
   ivec2 last = min(first + int(kDofTileSize), ivec2(frame.imageSize)) - 1;
   float largest = 0.0;
   float nearest = 0.0;
+  bool smallBlur = false, smallNear = false;
   for (int y = first.y; y <= last.y; ++y) {
     [[unroll]] for (int i = 0; i < int(kDofTileSize); ++i) {
-      float coc = imageLoad(cocImage, ivec2(min(first.x + i, last.x), y)).r;
+      float coc = texelFetch(cocImage, ivec2(min(first.x + i, last.x), y), 0)[push.channel];
       largest = max(largest, abs(coc));
       nearest = min(nearest, coc);
+      smallBlur = smallBlur || abs(coc) >= kDofSubPixelBlurCoc && abs(coc) < kDofHalfResCoc;
+      smallNear = smallNear || coc <= -kDofFocusZone && coc > -kDofHalfResCoc;
     }
   }
-  imageStore(tiles, tile, vec4(largest, nearest, 0.0, 0.0));
+  imageStore(tiles, tile, vec4(largest, nearest, smallBlur ? 1.0 : 0.0, smallNear ? 1.0 : 0.0));
 }

@@ -196,7 +196,7 @@ void ComputeProgram::record(VkCommandBuffer cmd, std::span<const Bind> binds, co
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   layout_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binds, push);
   if (grid.arguments) {
-    vkCmdDispatchIndirect(cmd, grid.arguments->get(), 0);
+    vkCmdDispatchIndirect(cmd, grid.arguments->get(), grid.offset);
   } else {
     const std::array<uint32_t, 3>& size = interface_.localSize;
     vkCmdDispatch(cmd, (grid.x + size[0] - 1) / size[0], (grid.y + size[1] - 1) / size[1], 1);

@@ -61,9 +61,12 @@ struct PushConstants {
 struct Grid {
   static Grid threads(uint32_t x, uint32_t y = 1) { return {x, y, nullptr}; }
   static Grid over(const Image& image) { return threads(image.width(), image.height()); }
-  static Grid indirect(const Buffer& arguments) { return {0, 0, &arguments}; }
+  static Grid indirect(const Buffer& arguments, VkDeviceSize offset = 0) {
+    return {0, 0, &arguments, offset};
+  }
   uint32_t x, y;
   const Buffer* arguments;
+  VkDeviceSize offset = 0;  // of the VkDispatchIndirectCommand in `arguments`
 };
 
 // The pipeline layout of one or more shader stages: set 0 the scene's (when a stage reads it),

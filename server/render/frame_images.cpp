@@ -18,9 +18,10 @@ uint32_t divideRoundingUp(uint32_t value, uint32_t divisor) {
 }
 
 // A CoC tile image of a w x h viewport: one texel per kDofTileSize pixels.
-gpu::Image makeTiles(gpu::ImageBatch& batch, uint32_t w, uint32_t h, const char* name) {
+gpu::Image makeTiles(gpu::ImageBatch& batch, uint32_t w, uint32_t h, VkFormat format,
+                     const char* name) {
   return batch.make(divideRoundingUp(w, gpu::kDofTileSize), divideRoundingUp(h, gpu::kDofTileSize),
-                    kPair, name);
+                    format, name);
 }
 
 }  // namespace
@@ -44,11 +45,11 @@ GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context
   depth = gpu::Image(context, desc, "depth");  // the render pass moves it out of UNDEFINED
 }
 
-DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
+DofImages::DofImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h) {
   uint32_t halfW = divideRoundingUp(w, 2), halfH = divideRoundingUp(h, 2);
-  coc = batch.make(w, h, kScalar, "dof coc");
-  tiles = makeTiles(batch, w, h, "dof tiles");
-  dilatedTiles = makeTiles(batch, w, h, "dof dilated tiles");
+  colorCoc = batch.make(w, h, kColor, "dof colour coc");
+  tiles = makeTiles(batch, w, h, kColor, "dof tiles");
+  dilatedTiles = makeTiles(batch, w, h, kPair, "dof dilated tiles");
   halfColorCoc = batch.make(halfW, halfH, kColor, "dof half colour");
   prefiltered = batch.make(halfW, halfH, kColor, "dof prefiltered");
   farLayer = batch.make(halfW, halfH, kColor, "dof far layer");
@@ -56,14 +57,20 @@ DofImages::DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h) {
   farFiltered = batch.make(halfW, halfH, kColor, "dof far filtered");
   nearFiltered = batch.make(halfW, halfH, kColor, "dof near filtered");
   output = batch.make(w, h, kColor, "dof output");
+  tileLists = gpu::Buffer(
+      context,
+      sizeof(gpu::DofTileLists) + VkDeviceSize(tiles.width()) * tiles.height() * sizeof(uint32_t),
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+          VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+      gpu::MemoryUse::DeviceOnly, "dof tile lists");
 }
 
 RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h) {
   reach = batch.make(w, h, kScalar, "ray mask reach");
   strength = batch.make(w, h, kPair, "ray mask strength");
-  tiles = makeTiles(batch, w, h, "ray mask tiles");
-  dilatedTiles = makeTiles(batch, w, h, "ray mask dilated tiles");
+  tiles = makeTiles(batch, w, h, kColor, "ray mask tiles");
+  dilatedTiles = makeTiles(batch, w, h, kPair, "ray mask dilated tiles");
   spread = batch.make(w, h, kColor, "ray mask spread");
   rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
   workList = gpu::Buffer(context,
@@ -98,7 +105,7 @@ FrameImages::FrameImages(const gpu::Context& context, uint32_t w, uint32_t h)
       height(h),
       batch(context),
       gbuffer(batch, context, w, h),
-      dof(batch, w, h),
+      dof(batch, context, w, h),
       mask(batch, context, w, h),
       hybrid(batch, w, h),
       accumulation(batch.make(w, h, kPrecise, "accumulation")),

@@ -14,13 +14,13 @@ namespace hdof {
 // The G-buffer (gbuffer_pass.h): the raster's visibility and its shaded resolve.
 struct GBufferImages {
   GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
-  gpu::Image visibility;   // r32ui: the triangle seen at each pixel centre
-  gpu::Image depth;        // d32: the raster's depth buffer
+  gpu::Image visibility;    // r32ui: the triangle seen at each pixel centre
+  gpu::Image depth;         // d32: the raster's depth buffer
   gpu::Image rasterColor;   // rgba16f: this frame's shaded raster sample (HDR)
   gpu::Image color;         // rgba16f: the sharp colour, anti-aliased over frames (HDR)
   gpu::Image colorHistory;  // rgba16f: the previous frame's `color`
   gpu::Image specular;      // rgba16f: the specular part of this frame's sample
-  gpu::Image normalDepth;  // rgba32f: world normal, linear view depth (metres)
+  gpu::Image normalDepth;   // rgba32f: world normal, linear view depth (metres)
   // rg16f: where each pixel's surface was in the previous frame, in pixels from the pixel (for
   // the sky: where its direction was)
   gpu::Image motion;
@@ -28,13 +28,17 @@ struct GBufferImages {
 
 // The post-process depth of field (postprocess_dof.h).
 struct DofImages {
-  DofImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h);
-  gpu::Image coc;                        // r16f: signed CoC in pixels (negative: near field)
-  gpu::Image tiles, dilatedTiles;        // rg16f, tiles: largest |CoC|, nearest CoC
+  DofImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
+  // rgba16f: the sharp colour, alpha the signed CoC in pixels (negative: near field)
+  gpu::Image colorCoc;
+  // Tiles: largest |CoC|, nearest CoC; tiles (rgba16f) also two flags for the tile lists,
+  // dilatedTiles (rg16f) is their dilation.
+  gpu::Image tiles, dilatedTiles;
   gpu::Image halfColorCoc, prefiltered;  // rgba16f, half: colour, alpha the CoC
   gpu::Image farLayer, nearLayer;        // rgba16f, half: the gather's (see dof_gather.comp)
   gpu::Image farFiltered, nearFiltered;  // the same after the median
   gpu::Image output;                     // rgba16f: the blurred image, HDR, alpha 1
+  gpu::Buffer tileLists;  // the composite's: a DofTileLists header (shared/dof.h), an entry a tile
 };
 
 // The adaptive ray mask (ray_mask.h) and the work list it hands to the selective ray trace.
@@ -42,11 +46,11 @@ struct RayMaskImages {
   RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
   gpu::Image reach;     // r16f: per edge pixel, its disc diameter
   gpu::Image strength;  // rg16f: per edge pixel, its strength and its sharper side's |CoC|
-  gpu::Image tiles, dilatedTiles;  // rg16f, tiles: x the largest reach
+  gpu::Image tiles, dilatedTiles;  // dof_tiles's, on the reach: x the largest
   gpu::Image spread;  // rgba16f: the row pass of the disc dilation (half height, strength, |CoC|)
-  gpu::Image rays;                 // r8ui: rays per pixel, 0 where the post-process is enough
-  gpu::Buffer workList;            // shared/ray_work.h: header (dispatch arguments), entries
-  gpu::Buffer workHeader;          // the list's header, read back for the frame's stats
+  gpu::Image rays;    // r8ui: rays per pixel, 0 where the post-process is enough
+  gpu::Buffer workList;    // shared/ray_work.h: header (dispatch arguments), entries
+  gpu::Buffer workHeader;  // the list's header, read back for the frame's stats
 };
 
 // The hybrid's ray-traced layers (hybrid_dof.h): what the trace writes for the listed pixels,

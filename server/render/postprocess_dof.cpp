@@ -1,5 +1,9 @@
 #include "render/postprocess_dof.h"
 
+#include <shared/dof.h>
+
+#include <cstddef>
+
 namespace hdof {
 
 using gpu::Grid;
@@ -8,22 +12,33 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
     : downsample_(context, "dof_downsample.comp"),
       tiles_(context, "dof_tiles.comp"),
       dilate_(context, "dof_dilate.comp"),
+      tileLists_(context, "dof_tile_lists.comp"),
       prefilter_(context, "dof_prefilter.comp"),
       gather_(context, "dof_gather.comp"),
       median_(context, "dof_median.comp"),
-      composite_(context, "dof_composite.comp") {}
+      composite_(context, "dof_composite.comp"),
+      compositeLayers_(context, "dof_composite_layers.comp") {}
 
 void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d) const {
   // One thread per half-resolution pixel, which also writes the CoC of its 2x2 pixels.
   steps.dispatch(downsample_,
                  {{"color", g.color},
                   {"normalDepth", g.normalDepth},
-                  {"cocImage", d.coc},
+                  {"colorCoc", d.colorCoc},
                   {"halfColorCoc", d.halfColorCoc}},
                  Grid::over(d.halfColorCoc));
-  steps.dispatch(tiles_, {{"cocImage", d.coc}, {"tiles", d.tiles}}, Grid::over(d.tiles));
+  uint32_t cocChannel = 3;
+  steps.dispatch(tiles_, {{"cocImage", d.colorCoc}, {"tiles", d.tiles}}, Grid::over(d.tiles),
+                 cocChannel);
   steps.dispatch(dilate_, {{"tiles", d.tiles}, {"dilated", d.dilatedTiles}},
                  Grid::over(d.dilatedTiles));
+  steps.step("dof_tile_lists_clear", [&](VkCommandBuffer cmd) {
+    gpu::DofTileLists empty{0, 1, 1, 0, 1, 1, 0, 0};
+    vkCmdUpdateBuffer(cmd, d.tileLists.get(), 0, sizeof(empty), &empty);
+  });
+  steps.dispatch(tileLists_,
+                 {{"tiles", d.tiles}, {"dilatedTiles", d.dilatedTiles}, {"lists", d.tileLists}},
+                 Grid::over(d.tiles));
   steps.dispatch(prefilter_,
                  {{"halfColorCoc", d.halfColorCoc},
                   {"dilatedTiles", d.dilatedTiles},
@@ -43,15 +58,14 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
                   {"farFiltered", d.farFiltered},
                   {"nearFiltered", d.nearFiltered}},
                  Grid::over(d.farFiltered));
-  // One thread per 2x2 pixels: one per half-resolution pixel.
-  steps.dispatch(composite_,
-                 {{"color", g.color},
-                  {"cocImage", d.coc},
-                  {"farLayer", d.farFiltered},
-                  {"nearLayer", d.nearFiltered},
-                  {"dilatedTiles", d.dilatedTiles},
-                  {"result", d.output}},
-                 Grid::over(d.farFiltered));
+  // One thread per 2x2 pixels, a workgroup per listed tile.
+  std::initializer_list<gpu::Bind> compositeBinds{
+      {"colorCoc", d.colorCoc},         {"farLayer", d.farFiltered}, {"nearLayer", d.nearFiltered},
+      {"dilatedTiles", d.dilatedTiles}, {"lists", d.tileLists},      {"result", d.output}};
+  steps.dispatch(composite_, compositeBinds,
+                 Grid::indirect(d.tileLists, offsetof(gpu::DofTileLists, smallBlurGroupsX)));
+  steps.dispatch(compositeLayers_, compositeBinds,
+                 Grid::indirect(d.tileLists, offsetof(gpu::DofTileLists, layersGroupsX)));
 }
 
 }  // namespace hdof

@@ -31,8 +31,9 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
   steps.dispatch(edges_,
                  {{"normalDepth", g.normalDepth}, {"reach", m.reach}, {"strength", m.strength}},
                  Grid::over(m.reach));
-  steps.dispatch(tiles_, {{"cocImage", m.reach}, {"tiles", m.tiles}}, Grid::over(m.tiles), {},
-                 "ray_mask_tiles");
+  uint32_t reachChannel = 0;
+  steps.dispatch(tiles_, {{"cocImage", m.reach}, {"tiles", m.tiles}}, Grid::over(m.tiles),
+                 reachChannel, "ray_mask_tiles");
   steps.dispatch(dilate_, {{"tiles", m.tiles}, {"dilated", m.dilatedTiles}},
                  Grid::over(m.dilatedTiles), {}, "ray_mask_dilate");
   steps.dispatch(spread_,

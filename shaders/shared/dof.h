@@ -22,14 +22,31 @@ HDOF_CONST float kDofFocusZone = 1.41421356;
 // widens a blur by a few pixels, which a bright light's bokeh shows at once.
 HDOF_CONST float kDofSmallBlurCoc = 5.0;
 HDOF_CONST float kDofHalfResCoc = 9.0;
+// The smallest CoC the composite blurs on a still view (px); below it the sharp colour is within
+// 3%.
+HDOF_CONST float kDofSubPixelBlurCoc = 0.1;
 // Gather kernel: up to kDofMaxRings rings of 8k taps (1 + 4 K (K + 1) taps in all), spaced about
 // kDofRingSpacing half-resolution pixels apart where the tile's CoC allows.
 HDOF_CONST int kDofMaxRings = 4;
 HDOF_CONST float kDofRingSpacing = 1.5;
 
+// The composite's two lists of tiles (dof_tile_lists.comp), as indirect dispatches of one
+// workgroup per tile: the tiles where a pixel's own blur is small enough for the full-resolution
+// blurs or a small near blur may spread over a pixel, listed from the front of the entries; the
+// others, which need only the sharp colour and the half-resolution layers, from the back. An entry
+// is a tile's x | y << 16.
+struct DofTileLists {
+  uint smallBlurGroupsX, smallBlurGroupsY, smallBlurGroupsZ;  // VkDispatchIndirectCommand
+  uint layersGroupsX, layersGroupsY, layersGroupsZ;           // VkDispatchIndirectCommand
+  uint reserved0, reserved1;
+};
+
 HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
+#include <cstddef>
+static_assert(sizeof(hdof::gpu::DofTileLists) == 32);
+static_assert(offsetof(hdof::gpu::DofTileLists, layersGroupsX) == 12);
 static_assert(hdof::gpu::kDofTileReach * hdof::gpu::kDofTileSize >= hdof::gpu::kDofMaxCoc / 2.0f,
               "the tile dilation must reach as far as the largest CoC radius");
 #endif

@@ -64,6 +64,7 @@ class PostProcessRig {
   }
 
   gpu::FrameUniforms uniforms{};
+  const FrameImages& images() const { return pipeline_.images(); }
 
  private:
   static std::vector<glm::vec3> rgb(const std::vector<glm::vec4>& texels) {
@@ -332,6 +333,62 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
 }
 
 // Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
+// The composite's tile lists: every tile once, and a tile handed to the pass of the layers alone
+// has no pixel whose blur is in the range of the full-resolution blurs nor, with a near field in
+// reach, a small near blur within the 2 pixels around it that the composite reads.
+TEST(PostProcess, ATileGoesToTheLayersAloneOnlyWithoutSmallBlurs) {
+  PostProcessRig rig("builtin:dof", kWidth, kHeight);
+  int smallBlurTiles = 0, layersTiles = 0;
+  for (float fNumber : {8.0f, 2.8f, 1.4f}) {
+    rig.render(Lens{50.0f, fNumber, 0.0f});
+    const DofImages& dof = rig.images().dof;
+    std::vector<glm::vec4> colorCoc = readImage(dof.colorCoc);
+    std::vector<glm::vec4> dilated = readImage(dof.dilatedTiles);
+    int tilesX = int(dof.tiles.width()), tilesY = int(dof.tiles.height());
+    size_t tileCount = size_t(tilesX) * tilesY;
+    gpu::Buffer lists(testContext(), dof.tileLists.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                      gpu::MemoryUse::Readback, "test tile lists");
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      gpu::copyBufferToHost(cmd, dof.tileLists, lists, lists.size());
+    });
+    gpu::DofTileLists header;
+    std::memcpy(&header, lists.mapped(), sizeof(header));
+    const auto* entries = reinterpret_cast<const uint32_t*>(
+        static_cast<const char*>(lists.mapped()) + sizeof(header));
+    ASSERT_EQ(header.smallBlurGroupsX + header.layersGroupsX, tileCount);
+    EXPECT_EQ(header.smallBlurGroupsY * header.smallBlurGroupsZ, 1u);
+    EXPECT_EQ(header.layersGroupsY * header.layersGroupsZ, 1u);
+    std::vector<int> listed(tileCount, 0);
+    for (size_t i = 0; i < tileCount; ++i) {
+      bool layersAlone = i >= header.smallBlurGroupsX;
+      uint32_t entry = entries[layersAlone ? tileCount - 1 - (i - header.smallBlurGroupsX) : i];
+      int tx = int(entry & 0xffff), ty = int(entry >> 16);
+      ASSERT_LT(tx, tilesX);
+      ASSERT_LT(ty, tilesY);
+      ++listed[size_t(ty) * tilesX + tx];
+      (layersAlone ? layersTiles : smallBlurTiles)++;
+      if (!layersAlone) continue;
+      bool nearInReach = dilated[size_t(ty) * tilesX + tx].y <= -gpu::kDofFocusZone;
+      int tile = int(gpu::kDofTileSize);
+      for (int y = ty * tile - 2; y < (ty + 1) * tile + 2; ++y)
+        for (int x = tx * tile - 2; x < (tx + 1) * tile + 2; ++x) {
+          if (x < 0 || y < 0 || x >= int(kWidth) || y >= int(kHeight)) continue;
+          float coc = colorCoc[size_t(y) * kWidth + x].a;
+          bool inTile = x >= tx * tile && x < (tx + 1) * tile && y >= ty * tile &&
+                        y < (ty + 1) * tile;
+          EXPECT_FALSE(inTile && std::abs(coc) >= gpu::kDofSubPixelBlurCoc &&
+                       std::abs(coc) < gpu::kDofHalfResCoc)
+              << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
+          EXPECT_FALSE(nearInReach && coc <= -gpu::kDofFocusZone && coc > -gpu::kDofHalfResCoc)
+              << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
+        }
+    }
+    for (int count : listed) EXPECT_EQ(count, 1);
+  }
+  EXPECT_GT(smallBlurTiles, 0);
+  EXPECT_GT(layersTiles, 0);
+}
+
 TEST(PostProcess, ReportsEveryPassTime) {
   PostProcessRig rig("builtin:dof", kWidth, kHeight);
   constexpr int kFrames = 10;
@@ -348,7 +405,7 @@ TEST(PostProcess, ReportsEveryPassTime) {
       }
       wallMs.push_back(result.wallMs);
     }
-    EXPECT_EQ(times.size(), 7u);
+    EXPECT_EQ(times.size(), 10u);
     auto median = [](std::vector<double>& values) {
       std::sort(values.begin(), values.end());
       return values[values.size() / 2];

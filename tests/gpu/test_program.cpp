@@ -52,40 +52,42 @@ TEST(ComputeProgram, TakesItsInterfaceFromTheShader) {
 }
 
 TEST(ComputeProgram, ABindingThatDoesNotMatchTheShaderIsAnError) {
-  gpu::ComputeProgram tiles(testContext(), "dof_tiles.comp");
+  gpu::ComputeProgram dilate(testContext(), "dof_dilate.comp");
   FrameImages images(testContext(), 32, 16);
   gpu::Buffer frame(testContext(), sizeof(gpu::FrameUniforms), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT,
                     gpu::MemoryUse::Upload, "test frame");
   Recording recording;
   auto record = [&](std::initializer_list<gpu::Bind> binds, gpu::PushConstants push = {}) {
     return errorOf(
-        [&] { tiles.record(recording.cmd(), binds, gpu::Grid::over(images.dof.tiles), push); });
+        [&] { dilate.record(recording.cmd(), binds, gpu::Grid::over(images.dof.tiles), push); });
   };
-  EXPECT_EQ(record({{"Frame", frame}, {"cocImage", images.dof.coc}, {"tiles", images.dof.tiles}}),
-            "");
+  EXPECT_EQ(
+      record({{"Frame", frame}, {"tiles", images.dof.tiles}, {"dilated", images.dof.dilatedTiles}}),
+      "");
   EXPECT_NE(
-      record({{"Frame", frame}, {"cocImage", images.dof.coc}}).find("nothing bound to 'tiles'"),
+      record({{"Frame", frame}, {"tiles", images.dof.tiles}}).find("nothing bound to 'dilated'"),
       std::string::npos);
   EXPECT_NE(record({{"Frame", frame},
-                    {"cocImage", images.dof.coc},
                     {"tiles", images.dof.tiles},
-                    {"tile", images.dof.tiles}})
-                .find("no binding 'tile'"),
+                    {"dilated", images.dof.dilatedTiles},
+                    {"dilate", images.dof.dilatedTiles}})
+                .find("no binding 'dilate'"),
             std::string::npos);
-  EXPECT_NE(record({{"Frame", frame}, {"cocImage", frame}, {"tiles", images.dof.tiles}})
-                .find("'cocImage' is an image"),
+  EXPECT_NE(record({{"Frame", frame}, {"tiles", frame}, {"dilated", images.dof.dilatedTiles}})
+                .find("'tiles' is an image"),
             std::string::npos);
   EXPECT_NE(record({{"Frame", frame},
-                    {"cocImage", images.dof.coc},
-                    {"cocImage", images.dof.coc},
-                    {"tiles", images.dof.tiles}})
+                    {"tiles", images.dof.tiles},
+                    {"tiles", images.dof.tiles},
+                    {"dilated", images.dof.dilatedTiles}})
                 .find("bound twice"),
             std::string::npos);
   uint32_t unexpected = 1;
-  EXPECT_NE(record({{"Frame", frame}, {"cocImage", images.dof.coc}, {"tiles", images.dof.tiles}},
-                   unexpected)
-                .find("push constants"),
-            std::string::npos);
+  EXPECT_NE(
+      record({{"Frame", frame}, {"tiles", images.dof.tiles}, {"dilated", images.dof.dilatedTiles}},
+             unexpected)
+          .find("push constants"),
+      std::string::npos);
 }
 
 TEST(ComputeProgram, AShaderThatReadsTheSceneNeedsIt) {

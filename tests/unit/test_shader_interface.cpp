@@ -69,7 +69,7 @@ TEST(ShaderInterface, DofDownsample) {
   expectBinding(shader, "Frame", 1, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER);
   expectBinding(shader, "color", 1, 1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
   expectBinding(shader, "normalDepth", 1, 2, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
-  expectBinding(shader, "cocImage", 1, 3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
+  expectBinding(shader, "colorCoc", 1, 3, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
   expectBinding(shader, "halfColorCoc", 1, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE);
   EXPECT_EQ(shader.find("frame"), nullptr);  // the block's instance name is not its name
   EXPECT_EQ(shader.find("noSuchBinding"), nullptr);
