@@ -101,6 +101,7 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   hybrid_.resetHistory();
   accumulation_.valid = false;
   dofOutput_.valid = false;
+  maskEdges_.valid = false;
   readback_ = gpu::Buffer();
   previousViewProj_.reset();
 }
@@ -159,12 +160,16 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
               sameLens(raster_.lens, request.lens)
           ? raster_.stillFrames + 1
           : 0;
-  if (request.mode == RenderMode::Hybrid) hybrid_.startFrame(uniforms.stillFrames);
-  // Neither the G-buffer nor the lens changed since the post-process last ran: its output stands.
+  // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
+  // ran: its output stands.
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kMaxRasterSamples;
+  auto stands = [&](const LensOutput& output) {
+    return !drawsGBuffer && output.valid && sameLens(output.lens, request.lens);
+  };
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
-  keepDofOutput_ =
-      needsDof && !drawsGBuffer && dofOutput_.valid && sameLens(dofOutput_.lens, request.lens);
+  keepDofOutput_ = needsDof && stands(dofOutput_);
+  if (request.mode == RenderMode::Hybrid)
+    hybrid_.startFrame(uniforms.stillFrames, stands(maskEdges_));
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
                                                 : 0);
@@ -207,6 +212,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
 
   previousViewProj_ = uniforms.viewProj;
   if (drawsGBuffer || needsDof) dofOutput_ = {needsDof, request.lens};
+  bool hybrid = request.mode == RenderMode::Hybrid;
+  if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens};
   keepDofOutput_ = false;
   if (raster)
     raster_ = {true,

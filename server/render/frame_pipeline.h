@@ -125,12 +125,14 @@ class FramePipeline {
     uint32_t stillFrames = 0;  // frames since the camera or the lens last changed
   } raster_;
 
-  // What the post-process output holds: the depth of field of the G-buffer as it is, through
-  // this lens. A still view whose raster has all its samples keeps it until the lens changes.
-  struct DofOutput {
+  // What an output of the G-buffer as it is, through this lens, holds. A still view whose raster
+  // has all its samples keeps it until the lens changes: the post-process output, and the ray
+  // mask's edges and their spread (hybrid only).
+  struct LensOutput {
     bool valid = false;
     Lens lens;
-  } dofOutput_;
+  };
+  LensOutput dofOutput_, maskEdges_;
   bool keepDofOutput_ = false;  // this frame reuses images.dof.output (record() reads it)
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.

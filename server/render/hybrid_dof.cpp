@@ -23,7 +23,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   const HybridImages::History& previous = h.history[current_];
   const HybridImages::History& next = h.history[current_ ^ 1u];
 
-  mask_.record(steps, g, m, hasHistory_ ? &h.variance : nullptr, traceEverywhere);
+  mask_.record(steps, g, m, hasHistory_ ? &h.variance : nullptr,
+               {.edgesStand = maskEdgesStand_, .everywhere = traceEverywhere});
   // The work list starts with a VkDispatchIndirectCommand sized to its entries.
   steps.dispatch(trace_,
                  {{"workList", m.workList},

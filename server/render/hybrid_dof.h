@@ -25,10 +25,14 @@ class HybridDof {
   // traceEverywhere: a full
   // mask (every pixel gets the full rays). startFrame() before record(): the frames that the
   // camera and lens have rested before this one (FrameUniforms::stillFrames), so that the
-  // history may average over a longer window. advance(): once the frame is submitted.
+  // history may average over a longer window, and whether the ray mask's edges from the last
+  // hybrid frame stand (G-buffer and lens unchanged). advance(): once the frame is submitted.
   void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
               bool traceEverywhere = false) const;
-  void startFrame(uint32_t stillFrames) { stillFrames_ = stillFrames; }
+  void startFrame(uint32_t stillFrames, bool maskEdgesStand) {
+    stillFrames_ = stillFrames;
+    maskEdgesStand_ = maskEdgesStand;
+  }
   void advance();
   // The history set the last frame wrote (images.hybrid.history[current()]).
   uint32_t current() const { return current_; }
@@ -39,6 +43,7 @@ class HybridDof {
   bool hasHistory_ = false;
   uint32_t current_ = 0;      // the history set the last frame wrote
   uint32_t stillFrames_ = 0;  // frames since the camera or the lens last changed
+  bool maskEdgesStand_ = false;
 };
 
 }  // namespace hdof

@@ -23,26 +23,28 @@ RayMask::RayMask(const gpu::Context& context)
 }
 
 void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskImages& m,
-                     const gpu::Image* varianceOrNull, bool everywhere) const {
+                     const gpu::Image* varianceOrNull, RayMaskOptions options) const {
   // Last frame's ray tracer may still read the list: the step barrier orders the fill after it.
   steps.step("ray_mask_clear", [&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, m.workList.get(), 0, sizeof(gpu::RayWorkHeader), 0);
   });
-  steps.dispatch(edges_,
-                 {{"normalDepth", g.normalDepth}, {"reach", m.reach}, {"strength", m.strength}},
-                 Grid::over(m.reach));
-  uint32_t reachChannel = 0;
-  steps.dispatch(tiles_, {{"cocImage", m.reach}, {"tiles", m.tiles}}, Grid::over(m.tiles),
-                 reachChannel, "ray_mask_tiles");
-  steps.dispatch(dilate_, {{"tiles", m.tiles}, {"dilated", m.dilatedTiles}},
-                 Grid::over(m.dilatedTiles), {}, "ray_mask_dilate");
-  steps.dispatch(spread_,
-                 {{"reach", m.reach},
-                  {"strength", m.strength},
-                  {"dilatedTiles", m.dilatedTiles},
-                  {"spread", m.spread}},
-                 Grid::over(m.spread));
-  uint32_t everywhereFlag = everywhere ? 1u : 0u;
+  if (!options.edgesStand) {
+    steps.dispatch(edges_,
+                   {{"normalDepth", g.normalDepth}, {"reach", m.reach}, {"strength", m.strength}},
+                   Grid::over(m.reach));
+    uint32_t reachChannel = 0;
+    steps.dispatch(tiles_, {{"cocImage", m.reach}, {"tiles", m.tiles}}, Grid::over(m.tiles),
+                   reachChannel, "ray_mask_tiles");
+    steps.dispatch(dilate_, {{"tiles", m.tiles}, {"dilated", m.dilatedTiles}},
+                   Grid::over(m.dilatedTiles), {}, "ray_mask_dilate");
+    steps.dispatch(spread_,
+                   {{"reach", m.reach},
+                    {"strength", m.strength},
+                    {"dilatedTiles", m.dilatedTiles},
+                    {"spread", m.spread}},
+                   Grid::over(m.spread));
+  }
+  uint32_t everywhereFlag = options.everywhere ? 1u : 0u;
   steps.dispatch(rays_,
                  {{"spread", m.spread},
                   {"dilatedTiles", m.dilatedTiles},

@@ -14,16 +14,23 @@
 
 namespace hdof {
 
+struct RayMaskOptions {
+  // The edges, their tiles and spread that mask holds are those of this G-buffer and lens:
+  // only the steps from the rays on run.
+  bool edgesStand = false;
+  bool everywhere = false;  // every pixel gets the full rays
+};
+
 class RayMask {
  public:
   explicit RayMask(const gpu::Context& context);
 
   // Reads gbuffer.normalDepth and, when not null, a per-pixel luminance variance (any
-  // single-channel float format; null reads as zero); writes mask. everywhere: every pixel gets
-  // the full rays. Ends with mask.rays and mask.workList ready for compute shaders and
-  // vkCmdDispatchIndirect, and the list's header on its way to mask.workHeader.
+  // single-channel float format; null reads as zero); writes mask. Ends with mask.rays and
+  // mask.workList ready for compute shaders and vkCmdDispatchIndirect, and the list's header on
+  // its way to mask.workHeader.
   void record(StepRecorder& steps, const GBufferImages& gbuffer, const RayMaskImages& mask,
-              const gpu::Image* varianceOrNull, bool everywhere = false) const;
+              const gpu::Image* varianceOrNull, RayMaskOptions options = {}) const;
 
  private:
   gpu::ComputeProgram edges_;

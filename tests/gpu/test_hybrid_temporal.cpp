@@ -136,6 +136,41 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
 }
 
+// The ray mask's edges and their spread depend on the G-buffer and the lens alone: a view at rest
+// whose raster has all its samples keeps them until the lens changes (in whichever mode) or the
+// raster starts over.
+TEST(HybridMode, ARestingViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
+  SceneOnGpu& scene = testScene("builtin:dof");
+  constexpr uint32_t kW = 192, kH = 108;
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kW, kH);
+  FrameRequest request;
+  request.mode = RenderMode::Hybrid;
+  request.camera = Camera::fromScene(scene.scene.cameras.front());
+  float focus = *scene.scene.cameras.front().focusDistance;
+  request.lens = onSceneCameraSensor(Lens{50.0f, 1.4f, focus}, scene.scene.cameras.front(), kW, kH);
+  request.settings = {kW, kH, 0, 2};
+  auto edges = [&](RenderMode mode = RenderMode::Hybrid) {
+    request.mode = mode;
+    FrameStats stats = pipeline.render(request);
+    if (mode == RenderMode::Hybrid) EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
+    return std::any_of(stats.passMs.begin(), stats.passMs.end(),
+                       [](const auto& pass) { return pass.first == "ray_mask_edges"; });
+  };
+  for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i)
+    EXPECT_TRUE(edges()) << "frame " << i << " draws the G-buffer";
+  EXPECT_FALSE(edges()) << "a settled raster and the same lens";
+  request.lens.focusDistance = focus * 1.2f;
+  EXPECT_TRUE(edges()) << "the focus changed";
+  EXPECT_FALSE(edges());
+  request.lens.fNumber = 2.8f;
+  EXPECT_FALSE(edges(RenderMode::PostProcess));
+  EXPECT_TRUE(edges()) << "the aperture changed while the post-process alone ran";
+  EXPECT_FALSE(edges(RenderMode::PostProcess));
+  EXPECT_FALSE(edges()) << "the post-process left the mask as it was";
+  request.camera.position += request.camera.up * 0.01f;
+  EXPECT_TRUE(edges()) << "the camera moved";
+}
+
 // The built-in scene wide open, and its reference (rendered once for the tests below).
 RenderSpec wideOpen() {
   RenderSpec spec;
