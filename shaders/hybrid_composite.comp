@@ -4,14 +4,17 @@
 // near field the ray-traced colour, except bright specular bokeh where the post-process wins by the
 // specular intensity; in the far field the ray-traced colour where near geometry covers the pixel
 // (hit ratio) and inside the traced region, fading to the post-process over the last pixels before
-// the mask's edge, so that the edge leaves no seam. Where the mask did not trace, the post-process.
+// the mask's edge, so that the edge leaves no seam. One thread per pixel of the ray mask's work
+// list: the others hold the post-process's colour already (step hybrid_composite_copy).
 #version 460
 #extension GL_GOOGLE_include_directive : require
-layout(local_size_x = 8, local_size_y = 8) in;
+layout(local_size_x = 64) in;
 
 #include "lib/frame.glsl"
 #include "shared/dof.h"
+#include "shared/ray_work.h"
 
+HDOF_RAY_WORK_LIST(9, readonly);
 layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
 layout(set = 1, binding = 2) uniform sampler2D sharp;  // rgba16f: the G-buffer's colour
 layout(set = 1, binding = 3) uniform sampler2D specular;  // rgba16f: its specular part
@@ -48,13 +51,9 @@ float tracedShare(ivec2 pixel) {
 }
 
 void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
+  if (gl_GlobalInvocationID.x >= workList.header.count) return;
+  ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
   vec3 pp = texelFetch(postProcess, pixel, 0).rgb;
-  if (texelFetch(rays, pixel, 0).r == 0u) {
-    imageStore(outColor, pixel, vec4(pp, 1.0));
-    return;
-  }
   vec4 near = texelFetch(historyNear, pixel, 0);
   float ratio = clamp(near.a, 0.0, 1.0);
   vec4 far = texelFetch(historyFar, pixel, 0);

@@ -76,6 +76,10 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"outFar", h.reconstructedFar}},
                  Grid::indirect(m.workList));
   if (view == DebugView::Final || view == DebugView::FocusZone) {
+    // The post-process's colour where the mask did not trace; the composite the rest.
+    steps.step("hybrid_composite_copy", [&](VkCommandBuffer cmd) {
+      gpu::copyImage(cmd, images.dof.output, h.output);
+    });
     steps.dispatch(composite_,
                    {{"rays", m.rays},
                     {"sharp", g.color},
@@ -84,8 +88,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"postProcess", images.dof.output},
                     {"historyNear", h.reconstructedNear},
                     {"historyFar", h.reconstructedFar},
-                    {"outColor", h.output}},
-                   Grid::over(h.output));
+                    {"outColor", h.output},
+                    {"workList", m.workList}},
+                   Grid::indirect(m.workList));
   } else {
     steps.dispatch(debugView_,
                    {{"rays", m.rays},
