@@ -53,17 +53,15 @@ LayerSums traceRay(uvec2 pixel, uint sampleIndex) {
 }
 
 // The lane of the subgroup whose pixel's rays hold ray `ray` of the subgroup: the last one whose
-// first ray is not beyond it (a lane without rays shares its first ray with the next lane).
+// first ray is not beyond it (a lane without rays shares its first ray with the next lane). A
+// binary search of as many steps in every lane, so that its shuffles run in uniform control flow.
 uint ownerOfRay(uint ray, uint firstRay) {
-  uint low = 0u, high = gl_SubgroupSize - 1u;
-  while (low < high) {
-    uint middle = (low + high + 1u) / 2u;
-    if (subgroupShuffle(firstRay, middle) <= ray)
-      low = middle;
-    else
-      high = middle - 1u;
+  uint owner = 0u;
+  for (uint step = gl_SubgroupSize / 2u; step > 0u; step /= 2u) {
+    uint firstRayThere = subgroupShuffle(firstRay, owner + step);
+    if (firstRayThere <= ray) owner += step;
   }
-  return low;
+  return owner;
 }
 
 // Adds up each run of lanes with the same owner (owners do not decrease along the lanes): the
