@@ -46,7 +46,7 @@ bool eventually(Condition condition) {
 TEST(Hardening, AForgedAckNonReaderCannotMakeFramesPileUp) {
   Daemon daemon({{},
                  R"({"mode": "pinhole", "max_fps": 240, "jpeg_quality_moving": 100,
-                     "jpeg_quality_still": 100, "client_timeout_s": 3})",
+                     "jpeg_quality_still": 100, "client_timeout_s": 6})",
                  {}});
   RawConnection attacker(daemon.port());
   ASSERT_TRUE(attacker.handshake());
