@@ -1,6 +1,7 @@
 // The command line through the real binary: bad input gives one line naming the problem and
 // exit code 2, never a crash; good input writes the image.
 #include "image/image.h"
+#include "common/scratch_dir.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -18,11 +19,7 @@ struct Result {
   std::string stdoutText, stderrText;
 };
 
-std::filesystem::path tempDir() {
-  auto dir = std::filesystem::temp_directory_path() / ("hdof-cli-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path tempDir() { return hdof::test::scratchDir("cli"); }
 
 std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -1,5 +1,7 @@
 #include "daemon.h"
 
+#include "common/scratch_dir.h"
+
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -27,10 +29,7 @@ namespace {
 
 std::string uniquePath(const std::string& name) {
   static std::atomic<int> counter{0};
-  auto dir =
-      std::filesystem::temp_directory_path() / ("hdof-serve-test-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / (std::to_string(counter++) + "-" + name)).string();
+  return (scratchDir("serve-test") / (std::to_string(counter++) + "-" + name)).string();
 }
 
 }  // namespace

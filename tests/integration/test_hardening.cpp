@@ -3,6 +3,7 @@
 // symlinks out of the web root, a render thread or device that fails, a signal during start-up,
 // a scene whose name is not UTF-8. No assert depends on timing.
 #include "daemon.h"
+#include "common/scratch_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -19,9 +20,9 @@ namespace {
 
 constexpr uint32_t kWidth = 96, kHeight = 54;
 
-std::filesystem::path scratchDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() /
-             ("hdof-hardening-" + std::to_string(getpid()) + "-" + name);
+// An empty folder of this process's scratch folder.
+std::filesystem::path emptyDir(const std::string& name) {
+  auto dir = scratchDir("hardening") / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -243,8 +244,8 @@ TEST(Hardening, HeadOtherMethodsAndSecurityHeaders) {
 
 // 5. Symlinks in the web root that lead out of it are not followed; those inside it are.
 TEST(Hardening, SymlinksOutOfTheWebRootAreNotServed) {
-  auto root = scratchDir("webroot");
-  auto outside = scratchDir("outside");
+  auto root = emptyDir("webroot");
+  auto outside = emptyDir("outside");
   std::ofstream(root / "index.html") << "<p>inside</p>";
   std::ofstream(outside / "secret.txt") << "outside the web root";
   std::filesystem::create_symlink(outside / "secret.txt", root / "leak.txt");
@@ -327,7 +328,7 @@ TEST(Hardening, ASignalDuringStartUpStopsTheDaemon) {
 // 8. A scene whose path is not UTF-8 (glTF names cannot be: the loader rejects them) is named in
 //    every welcome, with U+FFFD for the bad bytes.
 TEST(Hardening, ASceneNameThatIsNotUtf8) {
-  auto dir = scratchDir("scene");
+  auto dir = emptyDir("scene");
   const float positions[9] = {-5, -5, -2, 5, -5, -2, 0, 5, -2};
   std::string buffer(reinterpret_cast<const char*>(positions), sizeof(positions));
   buffer += std::string("\x00\x01\x02\x00", 4);

@@ -1,5 +1,7 @@
 // hdof serve's command line: bad usage and bad config are one-line errors with exit code 2,
 // before anything listens.
+#include "common/scratch_dir.h"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -15,12 +17,7 @@ struct Result {
   std::string stderrText;
 };
 
-std::filesystem::path tempDir() {
-  auto dir =
-      std::filesystem::temp_directory_path() / ("hdof-serve-cli-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+std::filesystem::path tempDir() { return hdof::test::scratchDir("serve-cli"); }
 
 Result serve(const std::string& args) {
   auto err = tempDir() / "err.txt";
