@@ -1,13 +1,19 @@
-// Post-process DoF (stage 2), composite of the tiles with full-resolution blurs (the front of the
-// tile lists, see lib/dof_composite.glsl): the sharp colour where the CoC is nothing (on a still
-// view, under kDofSubPixelBlurCoc; in motion, a pixel); up to kDofSmallBlurCoc a full-resolution
-// blur, with the small near blurs in front spread over it; beyond, the far layer, blended in as
-// |CoC| grows; then the near layer over everything, with its opacity.
+// Post-process DoF (stage 2), composite of the tiles with full-resolution blurs (see
+// lib/dof_composite.glsl): the sharp colour where the CoC is nothing (on a still view, under
+// kDofSubPixelBlurCoc; in motion, a pixel); up to kDofSmallBlurCoc a full-resolution blur, with the
+// small near blurs in front spread over it; beyond, the far layer, blended in as |CoC| grows; then
+// the near layer over everything, with its opacity. One pipeline per list of such tiles
+// (shared/dof.h): the narrow and wide lists' are made without the code their tiles never run.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
 #include "lib/dof_composite.glsl"
+
+// The list of tiles this pipeline composites: kDofListNarrow, kDofListWide or kDofListNear.
+layout(constant_id = 0) const uint kList = 2;  // kDofListNear: every blur
+const bool kWideBlurs = kList != kDofListNarrow;
+const bool kNearSpread = kList == kDofListNear;
 
 // The small blurs below read kSmallBlurReach pixels around a pixel: discs up to a radius of
 // kSmallBlurReach + 0.5 (the CoC kDofSmallBlurCoc), which no pixel beyond that reach overlaps.
@@ -116,7 +122,7 @@ vec4 smallNearSpread(ivec2 offset, float coc) {
 }
 
 void main() {
-  ivec2 quad = listedQuad(true);
+  ivec2 quad = listedQuad(kList);
   ivec2 size = ivec2(frame.imageSize);
   CompositeQuad q = loadQuad(quad);
   // Blurs under a pixel's width on a still view (in motion, the reprojected anti-aliasing history
@@ -129,14 +135,16 @@ void main() {
   // Whether a small near blur may spread over the quad: the 3x3 half-resolution pixels cover the
   // small blurs' window, each with the nearest CoC of its 2x2 pixels.
   bool anySmallNear = false;
-  if (q.withNear) {
+  if (kNearSpread && q.withNear) {
     [[unroll]] for (int j = 0; j < 9; ++j)
       anySmallNear = anySmallNear || (q.far[j].a <= -kDofFocusZone && q.far[j].a > -kDofHalfResCoc);
   }
   // Blurs that read past the pixels next to the quad: a radius from 1.5 px, a near-field pixel's
   // cover, the near spread.
   bool wide = anySmallNear;
-  [[unroll]] for (int i = 0; i < 4; ++i) wide = wide || abs(q.coc[i]) >= 3.0 || q.coc[i] <= -1.0;
+  [[unroll]] for (int i = 0; i < 4; ++i)
+    wide = wide || abs(q.coc[i]) >= kDofNarrowCoc || q.coc[i] <= kDofNarrowNearCoc;
+  wide = kWideBlurs && wide;
   if (anySmallBlur || anySmallNear) loadWindow(q.first, wide);
 
   [[unroll]] for (int i = 0; i < 4; ++i) {

@@ -1,5 +1,5 @@
-// Post-process DoF (stage 2), composite of the tiles without full-resolution blurs (the back of
-// the tile lists, see lib/dof_composite.glsl): the sharp colour where the CoC is nothing, the far
+// Post-process DoF (stage 2), composite of the tiles without full-resolution blurs (their list,
+// see lib/dof_composite.glsl): the sharp colour where the CoC is nothing, the far
 // layer as |CoC| grows, the near layer over everything.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -8,7 +8,7 @@
 #include "lib/dof_composite.glsl"
 
 void main() {
-  ivec2 quad = listedQuad(false);
+  ivec2 quad = listedQuad(kDofListLayers);
   ivec2 size = ivec2(frame.imageSize);
   CompositeQuad q = loadQuad(quad);
   [[unroll]] for (int i = 0; i < 4; ++i) {

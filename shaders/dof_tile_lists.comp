@@ -1,8 +1,9 @@
-// Post-process DoF (stage 2), the composite's tile lists: each tile goes to the list of the
-// composite's full-resolution blurs when one of its pixels has a CoC in their range or, with a near
-// field in reach, a small near blur within the tiles around it may spread over its pixels (the
-// composite reads 2 pixels around each pixel); else to the list of tiles that need only the sharp
-// colour and the half-resolution layers (shared/dof.h, DofTileLists). The lists' dispatch
+// Post-process DoF (stage 2), the composite's tile lists (shared/dof.h, DofTileLists): a tile
+// goes to a list of the full-resolution blurs when one of its pixels has a CoC in their range or,
+// with a near field in reach, a small near blur within the tiles around it may spread over its
+// pixels (the composite reads 2 pixels around each pixel): the near list when a near field is in
+// reach, else the wide or the narrow list by its largest and nearest CoC; else to the list of
+// tiles that need only the sharp colour and the half-resolution layers. The lists' dispatch
 // arguments start at zero workgroups (step dof_tile_lists_clear). One thread per tile.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -22,8 +23,10 @@ void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
   ivec2 count = imageSize(tiles);
   if (any(greaterThanEqual(tile, count))) return;
-  bool smallBlur = imageLoad(tiles, tile).z > 0.0;
-  if (imageLoad(dilatedTiles, tile).y <= -kDofFocusZone) {
+  vec4 own = imageLoad(tiles, tile);  // largest |CoC|, nearest CoC, small blur, small near
+  bool smallBlur = own.z > 0.0;
+  bool nearInReach = imageLoad(dilatedTiles, tile).y <= -kDofFocusZone;
+  if (nearInReach) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         ivec2 neighbour = clamp(tile + ivec2(dx, dy), ivec2(0), count - 1);
@@ -31,11 +34,12 @@ void main() {
       }
     }
   }
-  uint entry = uint(tile.x) | uint(tile.y) << 16u;
-  if (smallBlur) {
-    lists.entries[atomicAdd(lists.header.smallBlurGroupsX, 1u)] = entry;
-  } else {
-    uint last = uint(count.x * count.y) - 1u;
-    lists.entries[last - atomicAdd(lists.header.layersGroupsX, 1u)] = entry;
-  }
+  bool narrow = own.x < kDofNarrowCoc && own.y > kDofNarrowNearCoc;
+  uint list = !smallBlur     ? kDofListLayers
+              : nearInReach ? kDofListNear
+              : narrow      ? kDofListNarrow
+                            : kDofListWide;
+  uint first = list * uint(count.x * count.y);
+  lists.entries[first + atomicAdd(lists.header.lists[list].groupsX, 1u)] =
+      uint(tile.x) | uint(tile.y) << 16u;
 }

@@ -64,8 +64,11 @@ int runBench(std::span<const std::string> args) {
   double resolveMs = measure(RenderMode::Pinhole, {"gbuffer"});
   double gbufferMs = measure(RenderMode::Pinhole, {"visibility", "gbuffer"});
   double postProcessMs = measure(RenderMode::PostProcess,
-                                 {"dof_downsample", "dof_tiles", "dof_dilate", "dof_prefilter",
-                                  "dof_gather", "dof_median", "dof_composite"});
+                                 {"dof_downsample", "dof_tiles", "dof_dilate",
+                                  "dof_tile_lists_clear", "dof_tile_lists", "dof_prefilter",
+                                  "dof_gather", "dof_median", "dof_composite_narrow",
+                                  "dof_composite_wide", "dof_composite_near",
+                                  "dof_composite_layers"});
   double postProcessFrameWallMs = median(wallMs);
   // Whole frames, side by side at the same rays per pixel: what the hybrid costs against the
   // post-process it improves on and the full ray trace it approaches (camera still, so the

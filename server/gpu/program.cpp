@@ -171,7 +171,8 @@ void ProgramLayout::bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint,
 }
 
 ComputeProgram::ComputeProgram(const Context& context, const std::string& shaderName,
-                               const SetLayout* sceneSet)
+                               const SetLayout* sceneSet,
+                               std::initializer_list<Specialize> constants)
     : name_(stem(shaderName)),
       interface_(reflectShader(embeddedShader(shaderName))),
       layout_(context, shaderName, std::span(&interface_, 1), sceneSet) {
@@ -183,6 +184,21 @@ ComputeProgram::ComputeProgram(const Context& context, const std::string& shader
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   info.stage.module = module;
   info.stage.pName = "main";
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<uint32_t> values;
+  for (const Specialize& constant : constants) {
+    auto declared = std::find_if(
+        interface_.specConstants.begin(), interface_.specConstants.end(),
+        [&](const ShaderSpecConstant& c) { return c.name == constant.name; });
+    if (declared == interface_.specConstants.end() || declared->size != sizeof(uint32_t))
+      throw std::logic_error(name_ + " has no 32-bit specialization constant '" +
+                             constant.name + "'");
+    entries.push_back({declared->id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+    values.push_back(constant.value);
+  }
+  VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
+                                      values.size() * sizeof(uint32_t), values.data()};
+  if (!entries.empty()) info.stage.pSpecializationInfo = &specialization;
   info.layout = layout_.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
   VK_CHECK(

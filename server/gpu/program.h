@@ -92,12 +92,23 @@ class ProgramLayout {
   PipelineLayout layout_;
 };
 
+// The value of a shader's specialization constant, named as the shader names it: a bool (0 or 1)
+// or a 32-bit integer. One shader made into pipelines for different cases, each without the code
+// that its case never runs.
+struct Specialize {
+  const char* name;
+  uint32_t value;
+};
+
 // A compute shader (shaders/NAME.comp, embedded) with its pipeline.
 class ComputeProgram {
  public:
-  // sceneSet: the scene's set layout, required when the shader reads set 0.
+  // sceneSet: the scene's set layout, required when the shader reads set 0. constants: values for
+  // some of the shader's specialization constants (the others keep their defaults); a name the
+  // shader does not declare is an error.
   ComputeProgram(const Context& context, const std::string& shaderName,
-                 const SetLayout* sceneSet = nullptr);
+                 const SetLayout* sceneSet = nullptr,
+                 std::initializer_list<Specialize> constants = {});
 
   // The shader's file name without its extension: "dof_gather".
   const std::string& name() const { return name_; }

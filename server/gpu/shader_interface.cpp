@@ -20,11 +20,11 @@ constexpr uint32_t kOpName = 5, kOpEntryPoint = 15, kOpExecutionMode = 16, kOpTy
                    kOpTypeImage = 25, kOpTypeSampler = 26, kOpTypeSampledImage = 27,
                    kOpTypeArray = 28, kOpTypeRuntimeArray = 29, kOpTypeStruct = 30,
                    kOpTypePointer = 32, kOpConstant = 43, kOpConstantComposite = 44,
-                   kOpSpecConstant = 50, kOpSpecConstantComposite = 51, kOpVariable = 59,
+                   kOpSpecConstantTrue = 48, kOpSpecConstantFalse = 49, kOpSpecConstant = 50, kOpSpecConstantComposite = 51, kOpVariable = 59,
                    kOpDecorate = 71, kOpMemberDecorate = 72, kOpExecutionModeId = 331,
                    kOpTypeAccelerationStructureKHR = 5341;
 // Decorations.
-constexpr uint32_t kDecorationBlock = 2, kDecorationBufferBlock = 3, kDecorationRowMajor = 4,
+constexpr uint32_t kDecorationSpecId = 1, kDecorationBlock = 2, kDecorationBufferBlock = 3, kDecorationRowMajor = 4,
                    kDecorationArrayStride = 6, kDecorationMatrixStride = 7, kDecorationBuiltIn = 11,
                    kDecorationBinding = 33, kDecorationDescriptorSet = 34, kDecorationOffset = 35;
 // Storage classes.
@@ -86,6 +86,8 @@ struct Id {
   bool block = false;
   bool bufferBlock = false;
   bool workgroupSize = false;
+  bool specId = false;  // decorated SpecId: a specialization constant's
+  uint32_t specIdValue = 0;
   uint32_t arrayStride = 0;
   std::vector<MemberLayout> members;  // of a struct
 };
@@ -93,6 +95,7 @@ struct Id {
 struct Module {
   std::unordered_map<uint32_t, Id> ids;
   std::vector<uint32_t> variables;
+  std::vector<uint32_t> specConstants;
   Instruction entryPoint;
   std::vector<Instruction> executionModes;
 
@@ -119,6 +122,10 @@ struct Module {
 
 void decorate(Id& target, Instruction ins) {
   switch (word(ins, 2)) {
+    case kDecorationSpecId:
+      target.specId = true;
+      target.specIdValue = word(ins, 3);
+      break;
     case kDecorationDescriptorSet:
       target.set = word(ins, 3);
       break;
@@ -185,9 +192,13 @@ Module parse(std::span<const uint32_t> spirv) {
       case kOpMemberDecorate:
         decorateMember(module.ids[word(ins, 1)], ins);
         break;
+      case kOpSpecConstantTrue:
+      case kOpSpecConstantFalse:
+      case kOpSpecConstant:
+        module.specConstants.push_back(word(ins, 2));
+        [[fallthrough]];
       case kOpConstant:
       case kOpConstantComposite:
-      case kOpSpecConstant:
       case kOpSpecConstantComposite:
         module.ids[word(ins, 2)].def = ins;
         break;
@@ -365,6 +376,16 @@ ShaderInterface reflectShader(std::span<const uint32_t> spirv) {
   std::sort(result.bindings.begin(), result.bindings.end(), [](const auto& a, const auto& b) {
     return std::pair(a.set, a.binding) < std::pair(b.set, b.binding);
   });
+  for (uint32_t id : module.specConstants) {
+    const Id& constant = module.at(id);
+    if (!constant.specId) continue;  // a default that no SpecId makes specializable
+    uint32_t size = 4;
+    if (opcodeOf(constant.def) == kOpSpecConstant)
+      size = sizeOf(module, word(constant.def, 1), {}, 0);
+    result.specConstants.push_back({constant.name, constant.specIdValue, size});
+  }
+  std::sort(result.specConstants.begin(), result.specConstants.end(),
+            [](const auto& a, const auto& b) { return a.id < b.id; });
   return result;
 }
 

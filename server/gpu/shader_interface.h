@@ -1,5 +1,5 @@
-// A shader's interface read from its SPIR-V: descriptor bindings, workgroup size and push-constant
-// size, so that C++ does not restate what the GLSL declares.
+// A shader's interface read from its SPIR-V: descriptor bindings, workgroup size, push-constant
+// size and specialization constants, so that C++ does not restate what the GLSL declares.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -21,11 +21,19 @@ struct ShaderBinding {
   uint32_t count = 1;  // array length for arrays of descriptors, 0 for a runtime-sized array
 };
 
+// A specialization constant (GLSL `layout(constant_id = N) const bool kName = ...`).
+struct ShaderSpecConstant {
+  std::string name;
+  uint32_t id = 0;    // its SpecId
+  uint32_t size = 4;  // bytes of its value: 4 for a bool (VkBool32) or a 32-bit number
+};
+
 struct ShaderInterface {
   VkShaderStageFlagBits stage = VK_SHADER_STAGE_COMPUTE_BIT;  // from OpEntryPoint's execution model
   std::vector<ShaderBinding> bindings;                        // sorted by (set, binding)
   std::array<uint32_t, 3> localSize{1, 1, 1};                 // compute shaders
   uint32_t pushConstantSize = 0;  // bytes of the push-constant block, 0 if none
+  std::vector<ShaderSpecConstant> specConstants;  // sorted by id
 
   // The binding named `name`, or nullptr.
   const ShaderBinding* find(std::string_view name) const;

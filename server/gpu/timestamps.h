@@ -12,7 +12,7 @@ namespace hdof::gpu {
 
 class GpuTimer {
  public:
-  GpuTimer(const Context& context, uint32_t maxPasses = 32);
+  GpuTimer(const Context& context, uint32_t maxPasses = 48);
   // Starts a new frame's measurements (resets the queries; record before any begin()).
   void reset(VkCommandBuffer cmd);
   void begin(VkCommandBuffer cmd, const std::string& pass);

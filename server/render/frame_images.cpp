@@ -59,7 +59,8 @@ DofImages::DofImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32
   output = batch.make(w, h, kColor, "dof output");
   tileLists = gpu::Buffer(
       context,
-      sizeof(gpu::DofTileLists) + VkDeviceSize(tiles.width()) * tiles.height() * sizeof(uint32_t),
+      sizeof(gpu::DofTileLists) +
+          VkDeviceSize(gpu::kDofListCount) * tiles.width() * tiles.height() * sizeof(uint32_t),
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
           VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
       gpu::MemoryUse::DeviceOnly, "dof tile lists");

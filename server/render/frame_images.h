@@ -38,7 +38,7 @@ struct DofImages {
   gpu::Image farLayer, nearLayer;        // rgba16f, half: the gather's (see dof_gather.comp)
   gpu::Image farFiltered, nearFiltered;  // the same after the median
   gpu::Image output;                     // rgba16f: the blurred image, HDR, alpha 1
-  gpu::Buffer tileLists;  // the composite's: a DofTileLists header (shared/dof.h), an entry a tile
+  gpu::Buffer tileLists;  // the composite's: a DofTileLists header (shared/dof.h), its lists' entries
 };
 
 // The adaptive ray mask (ray_mask.h) and the work list it hands to the selective ray trace.

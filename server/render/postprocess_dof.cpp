@@ -16,7 +16,9 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
       prefilter_(context, "dof_prefilter.comp"),
       gather_(context, "dof_gather.comp"),
       median_(context, "dof_median.comp"),
-      composite_(context, "dof_composite.comp"),
+      compositeNarrow_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNarrow}}),
+      compositeWide_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListWide}}),
+      compositeNear_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNear}}),
       compositeLayers_(context, "dof_composite_layers.comp") {}
 
 void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d) const {
@@ -33,7 +35,8 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
   steps.dispatch(dilate_, {{"tiles", d.tiles}, {"dilated", d.dilatedTiles}},
                  Grid::over(d.dilatedTiles));
   steps.step("dof_tile_lists_clear", [&](VkCommandBuffer cmd) {
-    gpu::DofTileLists empty{0, 1, 1, 0, 1, 1, 0, 0};
+    gpu::DofTileLists empty;
+    for (gpu::DofTileList& list : empty.lists) list = {0, 1, 1, 0};
     vkCmdUpdateBuffer(cmd, d.tileLists.get(), 0, sizeof(empty), &empty);
   });
   steps.dispatch(tileLists_,
@@ -62,10 +65,14 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
   std::initializer_list<gpu::Bind> compositeBinds{
       {"colorCoc", d.colorCoc},         {"farLayer", d.farFiltered}, {"nearLayer", d.nearFiltered},
       {"dilatedTiles", d.dilatedTiles}, {"lists", d.tileLists},      {"result", d.output}};
-  steps.dispatch(composite_, compositeBinds,
-                 Grid::indirect(d.tileLists, offsetof(gpu::DofTileLists, smallBlurGroupsX)));
-  steps.dispatch(compositeLayers_, compositeBinds,
-                 Grid::indirect(d.tileLists, offsetof(gpu::DofTileLists, layersGroupsX)));
+  auto composite = [&](const gpu::ComputeProgram& program, uint32_t list, const char* name) {
+    VkDeviceSize arguments = offsetof(gpu::DofTileLists, lists) + list * sizeof(gpu::DofTileList);
+    steps.dispatch(program, compositeBinds, Grid::indirect(d.tileLists, arguments), {}, name);
+  };
+  composite(compositeNarrow_, gpu::kDofListNarrow, "dof_composite_narrow");
+  composite(compositeWide_, gpu::kDofListWide, "dof_composite_wide");
+  composite(compositeNear_, gpu::kDofListNear, "dof_composite_near");
+  composite(compositeLayers_, gpu::kDofListLayers, "dof_composite_layers");
 }
 
 }  // namespace hdof

@@ -1,8 +1,8 @@
 // The post-process depth of field (Jimenez 2014, "Next Generation Post Processing in Call of
 // Duty: Advanced Warfare") from the G-buffer's sharp colour and depth: CoC and half-resolution
 // downsample, CoC tiles, tile dilation, prefilter, scatter-as-gather into a near and a far layer,
-// median, and a full-resolution composite in two passes over lists of tiles, those with
-// full-resolution blurs and the others (shaders/dof_*.comp).
+// median, and a full-resolution composite in passes over lists of tiles, three of them for the
+// tiles with full-resolution blurs by how far those read, one for the others (shaders/dof_*.comp).
 #pragma once
 
 #include "render/frame_images.h"
@@ -17,8 +17,9 @@ class PostProcessDof {
   void record(StepRecorder& steps, const GBufferImages& gbuffer, const DofImages& dof) const;
 
  private:
-  gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, gather_, median_,
-      composite_, compositeLayers_;
+  gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, gather_, median_;
+  // dof_composite.comp made for the narrow, wide and near lists of tiles (shared/dof.h).
+  gpu::ComputeProgram compositeNarrow_, compositeWide_, compositeNear_, compositeLayers_;
 };
 
 }  // namespace hdof

@@ -1,4 +1,4 @@
-// Post-process DoF (stage 2), what the composite's two passes share (dof_composite.comp for the
+// Post-process DoF (stage 2), what the composite's passes share (dof_composite.comp for the
 // tiles with full-resolution blurs, dof_composite_layers.comp for the others): their images, the
 // tile lists they take their tiles from, and the half-resolution layers upsampled to a pixel.
 // Each invocation does a 2x2 quad of pixels, whose bilinear footprints share the 3x3
@@ -33,12 +33,10 @@ struct CompositeQuad {
   vec4 near[9];
 };
 
-// This invocation's quad, in its workgroup's tile: the front of the entries holds the list of
-// the tiles with full-resolution blurs, the back the others (dof_tile_lists.comp).
-ivec2 listedQuad(bool smallBlurList) {
+// This invocation's quad, in its workgroup's tile of `list` (dof_tile_lists.comp).
+ivec2 listedQuad(uint list) {
   ivec2 count = imageSize(dilatedTiles);
-  uint index = smallBlurList ? gl_WorkGroupID.x : uint(count.x * count.y) - 1u - gl_WorkGroupID.x;
-  uint entry = lists.entries[index];
+  uint entry = lists.entries[list * uint(count.x * count.y) + gl_WorkGroupID.x];
   ivec2 tile = ivec2(entry & 0xffffu, entry >> 16u);
   return tile * int(kDofTileSize / 2u) + ivec2(gl_LocalInvocationID.xy);
 }

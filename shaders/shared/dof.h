@@ -30,23 +30,39 @@ HDOF_CONST float kDofSubPixelBlurCoc = 0.1;
 HDOF_CONST int kDofMaxRings = 4;
 HDOF_CONST float kDofRingSpacing = 1.5;
 
-// The composite's two lists of tiles (dof_tile_lists.comp), as indirect dispatches of one
-// workgroup per tile: the tiles where a pixel's own blur is small enough for the full-resolution
-// blurs or a small near blur may spread over a pixel, listed from the front of the entries; the
-// others, which need only the sharp colour and the half-resolution layers, from the back. An entry
-// is a tile's x | y << 16.
+// The composite's lists of tiles (dof_tile_lists.comp), each an indirect dispatch of one
+// workgroup per tile and a pipeline of dof_composite.comp made for what its tiles need (a CPU
+// device runs every branch of a shader under a mask, so that code a tile does not need costs
+// there as much as code it does): tiles with full-resolution blurs that read only the pixels next
+// to each 2x2 quad (every |CoC| under 3 px, no near field); tiles whose blurs read further, with
+// no near field in reach; tiles where a small near blur may spread over a pixel too; and the
+// others, which need only the sharp colour and the half-resolution layers
+// (dof_composite_layers.comp). List k's entries are entries [k * tiles, (k + 1) * tiles) after the
+// header; an entry is a tile's x | y << 16.
+HDOF_CONST uint kDofListNarrow = 0;
+HDOF_CONST uint kDofListWide = 1;
+HDOF_CONST uint kDofListNear = 2;
+HDOF_CONST uint kDofListLayers = 3;
+HDOF_CONST uint kDofListCount = 4;
+// A quad's blurs read past the pixels next to it from a |CoC| of 3 px (a radius of 1.5) and, in
+// the near field, from a CoC of -1 px: a narrow tile's pixels are inside both.
+HDOF_CONST float kDofNarrowCoc = 3.0;
+HDOF_CONST float kDofNarrowNearCoc = -1.0;
+
+struct DofTileList {
+  uint groupsX, groupsY, groupsZ;  // VkDispatchIndirectCommand
+  uint reserved;
+};
+
 struct DofTileLists {
-  uint smallBlurGroupsX, smallBlurGroupsY, smallBlurGroupsZ;  // VkDispatchIndirectCommand
-  uint layersGroupsX, layersGroupsY, layersGroupsZ;           // VkDispatchIndirectCommand
-  uint reserved0, reserved1;
+  DofTileList lists[kDofListCount];
 };
 
 HDOF_NAMESPACE_END
 
 #ifdef __cplusplus
 #include <cstddef>
-static_assert(sizeof(hdof::gpu::DofTileLists) == 32);
-static_assert(offsetof(hdof::gpu::DofTileLists, layersGroupsX) == 12);
+static_assert(sizeof(hdof::gpu::DofTileLists) == 16 * hdof::gpu::kDofListCount);
 static_assert(hdof::gpu::kDofTileReach * hdof::gpu::kDofTileSize >= hdof::gpu::kDofMaxCoc / 2.0f,
               "the tile dilation must reach as far as the largest CoC radius");
 #endif

@@ -8,6 +8,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -333,13 +334,15 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
 }
 
 // Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
-// The composite's tile lists: every tile once, and a tile handed to the pass of the layers alone
-// has no pixel whose blur is in the range of the full-resolution blurs nor, with a near field in
-// reach, a small near blur within the 2 pixels around it that the composite reads.
-TEST(PostProcess, ATileGoesToTheLayersAloneOnlyWithoutSmallBlurs) {
+// The composite's tile lists: every tile once; a tile handed to the pass of the layers alone has
+// no pixel whose blur is in the range of the full-resolution blurs nor, with a near field in
+// reach, a small near blur within the 2 pixels around it that the composite reads; of the tiles
+// with full-resolution blurs, the near list's alone have a near field in reach, and the narrow
+// list's pixels have blurs that read only the pixels next to their quad.
+TEST(PostProcess, EachTileGoesToTheListOfTheBlursItNeeds) {
   PostProcessRig rig("builtin:dof", kWidth, kHeight);
-  int smallBlurTiles = 0, layersTiles = 0;
-  for (float fNumber : {8.0f, 2.8f, 1.4f}) {
+  std::array<int, gpu::kDofListCount> tilesOf{};
+  for (float fNumber : {8.0f, 2.8f, 1.4f, 1.0f}) {  // at f/1.0 the wall is 4 px wide blurs
     rig.render(Lens{50.0f, fNumber, 0.0f});
     const DofImages& dof = rig.images().dof;
     std::vector<glm::vec4> colorCoc = readImage(dof.colorCoc);
@@ -355,38 +358,46 @@ TEST(PostProcess, ATileGoesToTheLayersAloneOnlyWithoutSmallBlurs) {
     std::memcpy(&header, lists.mapped(), sizeof(header));
     const auto* entries = reinterpret_cast<const uint32_t*>(
         static_cast<const char*>(lists.mapped()) + sizeof(header));
-    ASSERT_EQ(header.smallBlurGroupsX + header.layersGroupsX, tileCount);
-    EXPECT_EQ(header.smallBlurGroupsY * header.smallBlurGroupsZ, 1u);
-    EXPECT_EQ(header.layersGroupsY * header.layersGroupsZ, 1u);
     std::vector<int> listed(tileCount, 0);
-    for (size_t i = 0; i < tileCount; ++i) {
-      bool layersAlone = i >= header.smallBlurGroupsX;
-      uint32_t entry = entries[layersAlone ? tileCount - 1 - (i - header.smallBlurGroupsX) : i];
-      int tx = int(entry & 0xffff), ty = int(entry >> 16);
-      ASSERT_LT(tx, tilesX);
-      ASSERT_LT(ty, tilesY);
-      ++listed[size_t(ty) * tilesX + tx];
-      (layersAlone ? layersTiles : smallBlurTiles)++;
-      if (!layersAlone) continue;
-      bool nearInReach = dilated[size_t(ty) * tilesX + tx].y <= -gpu::kDofFocusZone;
-      int tile = int(gpu::kDofTileSize);
-      for (int y = ty * tile - 2; y < (ty + 1) * tile + 2; ++y)
-        for (int x = tx * tile - 2; x < (tx + 1) * tile + 2; ++x) {
-          if (x < 0 || y < 0 || x >= int(kWidth) || y >= int(kHeight)) continue;
-          float coc = colorCoc[size_t(y) * kWidth + x].a;
-          bool inTile = x >= tx * tile && x < (tx + 1) * tile && y >= ty * tile &&
-                        y < (ty + 1) * tile;
-          EXPECT_FALSE(inTile && std::abs(coc) >= gpu::kDofSubPixelBlurCoc &&
-                       std::abs(coc) < gpu::kDofHalfResCoc)
-              << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
-          EXPECT_FALSE(nearInReach && coc <= -gpu::kDofFocusZone && coc > -gpu::kDofHalfResCoc)
-              << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
-        }
+    for (uint32_t list = 0; list < gpu::kDofListCount; ++list) {
+      const gpu::DofTileList& arguments = header.lists[list];
+      ASSERT_LE(arguments.groupsX, tileCount);
+      EXPECT_EQ(arguments.groupsY * arguments.groupsZ, 1u);
+      tilesOf[list] += int(arguments.groupsX);
+      for (uint32_t i = 0; i < arguments.groupsX; ++i) {
+        uint32_t entry = entries[list * tileCount + i];
+        int tx = int(entry & 0xffff), ty = int(entry >> 16);
+        ASSERT_LT(tx, tilesX);
+        ASSERT_LT(ty, tilesY);
+        ++listed[size_t(ty) * tilesX + tx];
+        bool nearInReach = dilated[size_t(ty) * tilesX + tx].y <= -gpu::kDofFocusZone;
+        if (list != gpu::kDofListLayers)
+          EXPECT_EQ(nearInReach, list == gpu::kDofListNear)
+              << "f/" << fNumber << " tile " << tx << "," << ty << " list " << list;
+        int tile = int(gpu::kDofTileSize);
+        for (int y = ty * tile - 2; y < (ty + 1) * tile + 2; ++y)
+          for (int x = tx * tile - 2; x < (tx + 1) * tile + 2; ++x) {
+            if (x < 0 || y < 0 || x >= int(kWidth) || y >= int(kHeight)) continue;
+            float coc = colorCoc[size_t(y) * kWidth + x].a;
+            bool inTile = x >= tx * tile && x < (tx + 1) * tile && y >= ty * tile &&
+                          y < (ty + 1) * tile;
+            if (list == gpu::kDofListNarrow && inTile) {
+              EXPECT_LT(std::abs(coc), gpu::kDofNarrowCoc) << "f/" << fNumber << " " << x << "," << y;
+              EXPECT_GT(coc, gpu::kDofNarrowNearCoc) << "f/" << fNumber << " " << x << "," << y;
+            }
+            if (list != gpu::kDofListLayers) continue;
+            EXPECT_FALSE(inTile && std::abs(coc) >= gpu::kDofSubPixelBlurCoc &&
+                         std::abs(coc) < gpu::kDofHalfResCoc)
+                << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
+            EXPECT_FALSE(nearInReach && coc <= -gpu::kDofFocusZone && coc > -gpu::kDofHalfResCoc)
+                << "f/" << fNumber << " pixel " << x << "," << y << " CoC " << coc;
+          }
+      }
     }
     for (int count : listed) EXPECT_EQ(count, 1);
   }
-  EXPECT_GT(smallBlurTiles, 0);
-  EXPECT_GT(layersTiles, 0);
+  for (uint32_t list = 0; list < gpu::kDofListCount; ++list)
+    EXPECT_GT(tilesOf[list], 0) << "list " << list;
 }
 
 TEST(PostProcess, ReportsEveryPassTime) {
@@ -405,7 +416,7 @@ TEST(PostProcess, ReportsEveryPassTime) {
       }
       wallMs.push_back(result.wallMs);
     }
-    EXPECT_EQ(times.size(), 10u);
+    EXPECT_EQ(times.size(), 12u);
     auto median = [](std::vector<double>& values) {
       std::sort(values.begin(), values.end());
       return values[values.size() / 2];
@@ -415,9 +426,9 @@ TEST(PostProcess, ReportsEveryPassTime) {
                 kFrames);
     for (auto& [name, ms] : times) {
       total += median(ms);
-      std::printf("  %-16s %6.2f ms\n", name.c_str(), median(ms));
+      std::printf("  %-22s %6.2f ms\n", name.c_str(), median(ms));
     }
-    std::printf("  %-16s %6.2f ms (wall clock of the frame: %.2f ms)\n", "sum", total,
+    std::printf("  %-22s %6.2f ms (wall clock of the frame: %.2f ms)\n", "sum", total,
                 median(wallMs));
   }
 }

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <shared/dof.h>
 #include <shared/frame.h>
 
 #include <stdexcept>
@@ -88,6 +89,18 @@ TEST(ComputeProgram, ABindingThatDoesNotMatchTheShaderIsAnError) {
              unexpected)
           .find("push constants"),
       std::string::npos);
+}
+
+TEST(ComputeProgram, SpecializesConstantsByName) {
+  EXPECT_EQ(errorOf([] {
+              gpu::ComputeProgram(testContext(), "dof_composite.comp", nullptr,
+                                  {{"kList", gpu::kDofListNarrow}});
+            }),
+            "");
+  std::string error = errorOf([] {
+    gpu::ComputeProgram(testContext(), "dof_composite.comp", nullptr, {{"kLists", 0}});
+  });
+  EXPECT_NE(error.find("no 32-bit specialization constant 'kLists'"), std::string::npos) << error;
 }
 
 TEST(ComputeProgram, AShaderThatReadsTheSceneNeedsIt) {

@@ -160,6 +160,31 @@ TEST(ShaderInterface, LocalSizeFromIdsAndWorkgroupSize) {
   EXPECT_EQ(module.reflect().localSize, (std::array<uint32_t, 3>{2, 2, 4}));
 }
 
+TEST(ShaderInterface, SpecializationConstants) {
+  ShaderInterface composite = reflect("dof_composite.comp");
+  ASSERT_EQ(composite.specConstants.size(), 1u);
+  EXPECT_EQ(composite.specConstants[0].name, "kList");
+  EXPECT_EQ(composite.specConstants[0].id, 0u);
+  EXPECT_EQ(composite.specConstants[0].size, 4u);
+  EXPECT_TRUE(reflect("dof_composite_layers.comp").specConstants.empty());
+
+  Module module;
+  module.op(20, {4});                  // %4 = OpTypeBool
+  module.op(48, {4, 30});              // %30 = OpSpecConstantTrue %4
+  module.op(50, {3, 31, 0x3f800000});  // %31 = OpSpecConstant %3 1.0
+  module.op(49, {4, 32});              // %32 = OpSpecConstantFalse %4, no SpecId: not listed
+  module.op(5, {30, 0x0000616b});      // OpName %30 "ka"
+  module.op(5, {31, 0x0000626b});      // OpName %31 "kb"
+  module.op(71, {31, 1, 3});           // OpDecorate %31 SpecId 3
+  module.op(71, {30, 1, 7});           // OpDecorate %30 SpecId 7
+  ShaderInterface shader = module.reflect();
+  ASSERT_EQ(shader.specConstants.size(), 2u);
+  EXPECT_EQ(shader.specConstants[0].name, "kb");
+  EXPECT_EQ(shader.specConstants[0].id, 3u);
+  EXPECT_EQ(shader.specConstants[1].name, "ka");
+  EXPECT_EQ(shader.specConstants[1].id, 7u);
+}
+
 TEST(ShaderInterface, ArraysBufferBlocksAndMatrices) {
   Module module;
   module.op(25, {5, 3, 1, 0, 0, 0, 1, 0});  // %5 = OpTypeImage %3 2D, sampled
