@@ -35,6 +35,11 @@ layout(set = 1, binding = 13) uniform writeonly image2D outMoments;
 // does not change with the rays the mask gives the pixel.
 layout(set = 1, binding = 14) uniform writeonly image2D outVariance;
 
+// Whether this pipeline serves frames in which the camera or the lens changed (history clamped to
+// this frame's rays) or only the others (hybrid_dof.cpp picks by the frame uniforms; a device that
+// runs every branch under a mask pays for the clamp's 27 loads whether it is taken or not).
+layout(constant_id = 0) const bool kChangedFrames = true;
+
 layout(push_constant) uniform Push {
   uint reset;  // 1 on a camera cut or the first frame: no history at all
   float minBlend;  // the moving average's weight of the new frame once history is long
@@ -124,7 +129,7 @@ void main() {
   bool moving = frame.previousViewProj != frame.viewProj;
   // A lens change (a focus pull) moves the blur as motion moves the image: the history is clamped
   // to this frame's rays as in motion, over the window that follows a change.
-  bool changed = moving || frame.stillFrames == 0u;
+  bool changed = kChangedFrames && (moving || frame.stillFrames == 0u);
   float minBlend = moving ? kMovingMinBlend : changed ? max(push.minBlend, kLensMinBlend) : push.minBlend;
   float window = float(max(frame.samplesPerPixel, 1u)) / minBlend;
   float samples = pixelValid ? moments.z : 0.0;

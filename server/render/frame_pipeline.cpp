@@ -169,7 +169,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_);
   if (request.mode == RenderMode::Hybrid)
-    hybrid_.startFrame(uniforms.stillFrames, stands(maskEdges_));
+    hybrid_.startFrame(uniforms, stands(maskEdges_));
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
                                                 : 0);

@@ -9,7 +9,8 @@ using gpu::Grid;
 HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
     : mask_(context),
       trace_(context, "hybrid_trace.comp", &scene.setLayout()),
-      temporal_(context, "hybrid_temporal.comp"),
+      temporalChanged_(context, "hybrid_temporal.comp"),
+      temporalStill_(context, "hybrid_temporal.comp", nullptr, {{"kChangedFrames", 0}}),
       spatial_(context, "hybrid_spatial.comp"),
       composite_(context, "hybrid_composite.comp"),
       debugView_(context, "debug_view.comp"),
@@ -48,7 +49,7 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
     float minBlend;  // the moving average's weight of the new frame once history is long
   } temporalPush{hasHistory_ ? 0u : 1u,
                  1.0f / float(std::min(kChangeWindow + stillFrames_, kStillWindow))};
-  steps.dispatch(temporal_,
+  steps.dispatch(changed_ ? temporalChanged_ : temporalStill_,
                  {{"rays", m.rays},
                   {"nearLayer", h.nearLayer},
                   {"farLayer", h.farLayer},

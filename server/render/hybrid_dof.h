@@ -8,6 +8,8 @@
 #include "render/modes.h"
 #include "render/ray_mask.h"
 
+#include <shared/frame.h>
+
 namespace hdof {
 
 class HybridDof {
@@ -23,14 +25,17 @@ class HybridDof {
   // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays. view
   // other than Final draws that debug view instead of the composite (FocusZone over it).
   // traceEverywhere: a full
-  // mask (every pixel gets the full rays). startFrame() before record(): the frames that the
-  // camera and lens have rested before this one (FrameUniforms::stillFrames), so that the
-  // history may average over a longer window, and whether the ray mask's edges from the last
-  // hybrid frame stand (G-buffer and lens unchanged). advance(): once the frame is submitted.
+  // mask (every pixel gets the full rays). startFrame() before record(): the frame's uniforms
+  // (how many frames the camera and lens have rested before this one, so that the history may
+  // average over a longer window; whether they changed) and whether the ray mask's edges from
+  // the last hybrid frame stand (G-buffer and lens unchanged). advance(): once the frame is
+  // submitted.
   void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
               bool traceEverywhere = false) const;
-  void startFrame(uint32_t stillFrames, bool maskEdgesStand) {
-    stillFrames_ = stillFrames;
+  void startFrame(const gpu::FrameUniforms& uniforms, bool maskEdgesStand) {
+    stillFrames_ = uniforms.stillFrames;
+    // As hybrid_temporal.comp decides it: the camera moved, or the camera or the lens changed.
+    changed_ = uniforms.previousViewProj != uniforms.viewProj || uniforms.stillFrames == 0;
     maskEdgesStand_ = maskEdgesStand;
   }
   void advance();
@@ -39,10 +44,14 @@ class HybridDof {
 
  private:
   RayMask mask_;
-  gpu::ComputeProgram trace_, temporal_, spatial_, composite_, debugView_, focusZone_;
+  gpu::ComputeProgram trace_;
+  // hybrid_temporal.comp for frames in which the camera or the lens changed, and for the others.
+  gpu::ComputeProgram temporalChanged_, temporalStill_;
+  gpu::ComputeProgram spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;
   uint32_t current_ = 0;      // the history set the last frame wrote
   uint32_t stillFrames_ = 0;  // frames since the camera or the lens last changed
+  bool changed_ = true;       // this frame's camera or lens differs from the last one's
   bool maskEdgesStand_ = false;
 };
 

@@ -107,6 +107,55 @@ TEST(HybridTemporal, WindowGrowsWhileStillAndShrinksOnALensChange) {
   EXPECT_LE(longestHistory(), 2.5f * kRaysPerPixel) << "in motion the window is short everywhere";
 }
 
+// Pixels whose accumulated near layer lies outside the range of this frame's rays over their 3x3
+// neighbourhood (the traced pixels', premultiplied by their hit ratio, as the history is).
+int historyOutsideThisFramesRays(const TemporalRig& rig) {
+  const FrameImages& images = rig.pipeline.images();
+  std::vector<glm::vec4> now = readImage(images.hybrid.nearLayer);
+  std::vector<glm::vec4> history = readImage(rig.history().nearLayer);
+  std::vector<uint8_t> rays(size_t(kWidth) * kHeight);
+  gpu::Buffer buffer(testContext(), rays.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                     gpu::MemoryUse::Readback, "rays");
+  testContext().submitAndWait(
+      [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, images.mask.rays, buffer); });
+  std::memcpy(rays.data(), buffer.mapped(), rays.size());
+  int outside = 0;
+  for (int y = 0; y < int(kHeight); ++y)
+    for (int x = 0; x < int(kWidth); ++x) {
+      if (rays[size_t(y) * kWidth + x] == 0) continue;
+      glm::vec4 low(1e30f), high(-1e30f);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          size_t q = size_t(std::clamp(y + dy, 0, int(kHeight) - 1)) * kWidth +
+                     size_t(std::clamp(x + dx, 0, int(kWidth) - 1));
+          if (rays[q] == 0) continue;
+          glm::vec4 premultiplied(glm::vec3(now[q]) * now[q].a, now[q].a);
+          low = glm::min(low, premultiplied);
+          high = glm::max(high, premultiplied);
+        }
+      glm::vec4 value = history[size_t(y) * kWidth + x];
+      glm::vec4 tolerance = 2e-3f + 2e-3f * glm::abs(value);  // half-float rounding
+      outside += glm::any(glm::lessThan(value, low - tolerance)) ||
+                 glm::any(glm::greaterThan(value, high + tolerance));
+    }
+  return outside;
+}
+
+// A frame whose lens (or camera) changed clamps the history to what this frame's rays around a
+// pixel saw, as TAA does, so that no stale layer lingers; a resting view's history averages its
+// rays unclamped (below the noise of a frame's own, so some pixels lie outside that range).
+TEST(HybridTemporal, AChangeClampsTheHistoryToThisFramesRays) {
+  TemporalRig rig;
+  for (int i = 0; i < 12; ++i) rig.render(false);
+  EXPECT_GT(historyOutsideThisFramesRays(rig), 0);
+  rig.render(false, 1.02f);
+  EXPECT_EQ(historyOutsideThisFramesRays(rig), 0);
+  for (int i = 0; i < 3; ++i) rig.render(false, 1.02f);
+  EXPECT_GT(historyOutsideThisFramesRays(rig), 0) << "resting again";
+  rig.render(false, 1.02f, 0.05f);
+  EXPECT_EQ(historyOutsideThisFramesRays(rig), 0) << "the camera moved";
+}
+
 TEST(HybridMode, RendersThroughTheFramePipeline) {
   RenderSpec spec;
   spec.width = 192;
