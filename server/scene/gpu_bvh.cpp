@@ -19,6 +19,21 @@ float gridPlane(float origin, uint32_t q, float step) {
 
 uint32_t byteOf(uint32_t word, uint32_t k) { return (word >> (8 * k)) & 0xffu; }
 
+// A float rounded down (towards minus infinity) to one whose low byte is zero, that byte then
+// free for the grid's exponent.
+float roundDownToHighBits(float value) {
+  uint32_t bits = std::bit_cast<uint32_t>(value);
+  uint32_t high = bits & ~0xffu;
+  // Clearing bits lowers a positive float's magnitude, and a negative float's too: those step
+  // one unit of the kept bits further from zero instead.
+  if (value < 0.0f && high != bits) high += 0x100u;
+  return std::bit_cast<float>(high);
+}
+
+float originOf(const gpu::BvhWideNode& node, int axis) {
+  return std::bit_cast<float>(node.origin[axis] & ~0xffu);
+}
+
 // The smallest power-of-two step (as a float's biased exponent) whose 255 steps from `low` reach
 // `high`.
 uint32_t gridExponent(float low, float high) {
@@ -31,20 +46,46 @@ uint32_t gridExponent(float low, float high) {
 
 class WideNodePacker {
  public:
-  explicit WideNodePacker(const Bvh& bvh) : nodes_(bvh.nodes) {
-    wide_.reserve(nodes_.size() / 3 + 1);
+  explicit WideNodePacker(const Bvh& bvh) : nodes_(bvh.nodes), triangles_(bvh.triangles) {
+    packed_.nodes.reserve(nodes_.size() / 3 + 1);
+    packed_.triangles.reserve(triangles_.size());
   }
 
-  std::vector<gpu::BvhWideNode> pack() && {
+  PackedBvh pack() && {
+    packed_.nodes.emplace_back();
     if (nodes_.at(0).triangleCount > 0 || nodes_.size() == 1) {
-      wide_.push_back(packNode({0}));
+      fill(0, {0});
     } else {
-      packChildrenOf(0);
+      fill(0, collapse(0));
     }
-    return std::move(wide_);
+    return std::move(packed_);
   }
 
  private:
+  // Packs the wide node of the given children into slot `index`: its leaves' triangles appended
+  // to the packed triangles, its interior children given the next consecutive slots, then each
+  // of them filled the same way.
+  void fill(uint32_t index, const std::vector<uint32_t>& children) {
+    gpu::BvhWideNode node = packNode(children);
+    node.firstTriangle = static_cast<uint32_t>(packed_.triangles.size());
+    node.firstNode = static_cast<uint32_t>(packed_.nodes.size());
+    std::vector<uint32_t> interior;
+    for (uint32_t k = 0; k < children.size(); ++k) {
+      uint32_t info = wideChildInfo(node, k);
+      if (info == gpu::kBvhInteriorChild) {
+        interior.push_back(children[k]);
+      } else if (info != gpu::kBvhEmptyChild) {
+        const gpu::BvhNode& leaf = nodes_[children[k]];
+        packed_.triangles.insert(packed_.triangles.end(),
+                                 triangles_.begin() + leaf.leftOrFirst,
+                                 triangles_.begin() + leaf.leftOrFirst + leaf.triangleCount);
+      }
+    }
+    packed_.nodes.resize(packed_.nodes.size() + interior.size());
+    packed_.nodes[index] = node;  // before the recursion, which may move the vector
+    for (uint32_t i = 0; i < interior.size(); ++i) fill(node.firstNode + i, collapse(interior[i]));
+  }
+
   // The built tree's nodes that become the wide node's children: the interior node's two
   // children, then, while there is room, the interior one of largest area replaced by its own.
   std::vector<uint32_t> collapse(uint32_t node) const {
@@ -69,20 +110,6 @@ class WideNodePacker {
     return children;
   }
 
-  // Appends the wide node of an interior node, then its subtrees depth first, so that the first
-  // interior child's node follows its parent's; returns its index.
-  uint32_t packChildrenOf(uint32_t node) {
-    std::vector<uint32_t> children = collapse(node);
-    auto index = static_cast<uint32_t>(wide_.size());
-    wide_.emplace_back();
-    gpu::BvhWideNode packed = packNode(children);
-    for (uint32_t k = 0; k < children.size(); ++k) {
-      if (nodes_[children[k]].triangleCount == 0) packed.links[k] = packChildrenOf(children[k]);
-    }
-    wide_[index] = packed;  // after the recursion, which may have moved wide_
-    return index;
-  }
-
   // A leaf's triangle count, gpu::kBvhInteriorChild, or gpu::kBvhEmptyChild for the root of a
   // tree without triangles (an only child that is no leaf).
   uint32_t childInfo(uint32_t child, size_t siblings) const {
@@ -91,17 +118,17 @@ class WideNodePacker {
     return siblings == 1 ? gpu::kBvhEmptyChild : gpu::kBvhInteriorChild;
   }
 
-  // A wide node of the given children, interior ones without their links yet.
+  // A wide node of the given children, without its first node and triangle yet.
   gpu::BvhWideNode packNode(const std::vector<uint32_t>& children) const {
     gpu::BvhWideNode packed{};
     Aabb all;
     for (uint32_t child : children)
       all.grow(Aabb{nodes_[child].boundsMin, nodes_[child].boundsMax});
-    packed.origin = all.min;
-    glm::vec3 step;
+    glm::vec3 origin, step;
     for (int axis = 0; axis < 3; ++axis) {
-      uint32_t exponent = gridExponent(all.min[axis], all.max[axis]);
-      packed.exponents |= exponent << (8 * axis);
+      origin[axis] = roundDownToHighBits(all.min[axis]);
+      uint32_t exponent = gridExponent(origin[axis], all.max[axis]);
+      packed.origin[axis] = std::bit_cast<uint32_t>(origin[axis]) | exponent;
       step[axis] = gridStep(exponent);
     }
     uint32_t* lows[3] = {&packed.lowX, &packed.lowY, &packed.lowZ};
@@ -109,20 +136,19 @@ class WideNodePacker {
     for (uint32_t k = 0; k < gpu::kBvhWidth; ++k) {
       uint32_t info =
           k < children.size() ? childInfo(children[k], children.size()) : gpu::kBvhEmptyChild;
-      packed.childInfo[k / 2] |= info << (16 * (k % 2));
+      packed.childInfo |= info << (8 * k);
       if (info == gpu::kBvhEmptyChild) continue;
       const gpu::BvhNode& child = nodes_[children[k]];
-      if (info != gpu::kBvhInteriorChild) packed.links[k] = child.leftOrFirst;
       for (int axis = 0; axis < 3; ++axis) {
-        float origin = all.min[axis], s = step[axis];
+        float o = origin[axis], s = step[axis];
         auto quantise = [&](float value, float (*round)(float)) {
-          return std::clamp(round((value - origin) / s), 0.0f, static_cast<float>(kGridMax));
+          return std::clamp(round((value - o) / s), 0.0f, static_cast<float>(kGridMax));
         };
         auto low = static_cast<uint32_t>(quantise(child.boundsMin[axis], std::floor));
         auto high = static_cast<uint32_t>(quantise(child.boundsMax[axis], std::ceil));
         // Division rounds: step outwards until the decoded planes hold the box.
-        while (low > 0 && gridPlane(origin, low, s) > child.boundsMin[axis]) --low;
-        while (high < kGridMax && gridPlane(origin, high, s) < child.boundsMax[axis]) ++high;
+        while (low > 0 && gridPlane(o, low, s) > child.boundsMin[axis]) --low;
+        while (high < kGridMax && gridPlane(o, high, s) < child.boundsMax[axis]) ++high;
         *lows[axis] |= low << (8 * k);
         *highs[axis] |= high << (8 * k);
       }
@@ -131,17 +157,29 @@ class WideNodePacker {
   }
 
   const std::vector<gpu::BvhNode>& nodes_;
-  std::vector<gpu::BvhWideNode> wide_;
+  const std::vector<gpu::BvhTriangle>& triangles_;
+  PackedBvh packed_;
 };
 
 }  // namespace
 
-std::vector<gpu::BvhWideNode> packBvhWideNodes(const Bvh& bvh) {
-  return WideNodePacker(bvh).pack();
-}
+PackedBvh packBvh(const Bvh& bvh) { return WideNodePacker(bvh).pack(); }
 
 uint32_t wideChildInfo(const gpu::BvhWideNode& node, uint32_t k) {
-  return (node.childInfo[k / 2] >> (16 * (k % 2))) & 0xffffu;
+  return byteOf(node.childInfo, k);
+}
+
+uint32_t wideChildLink(const gpu::BvhWideNode& node, uint32_t k) {
+  uint32_t interiorBefore = 0, trianglesBefore = 0;
+  for (uint32_t j = 0; j < k; ++j) {
+    uint32_t info = wideChildInfo(node, j);
+    if (info == gpu::kBvhInteriorChild)
+      ++interiorBefore;
+    else if (info != gpu::kBvhEmptyChild)
+      trianglesBefore += info;
+  }
+  return wideChildInfo(node, k) == gpu::kBvhInteriorChild ? node.firstNode + interiorBefore
+                                                          : node.firstTriangle + trianglesBefore;
 }
 
 Aabb wideChildBounds(const gpu::BvhWideNode& node, uint32_t k) {
@@ -149,9 +187,10 @@ Aabb wideChildBounds(const gpu::BvhWideNode& node, uint32_t k) {
   const uint32_t highs[3] = {node.highX, node.highY, node.highZ};
   Aabb bounds;
   for (int axis = 0; axis < 3; ++axis) {
-    float step = gridStep(byteOf(node.exponents, axis));
-    bounds.min[axis] = gridPlane(node.origin[axis], byteOf(lows[axis], k), step);
-    bounds.max[axis] = gridPlane(node.origin[axis], byteOf(highs[axis], k), step);
+    float origin = originOf(node, axis);
+    float step = gridStep(node.origin[axis] & 0xffu);
+    bounds.min[axis] = gridPlane(origin, byteOf(lows[axis], k), step);
+    bounds.max[axis] = gridPlane(origin, byteOf(highs[axis], k), step);
   }
   return bounds;
 }

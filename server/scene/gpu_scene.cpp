@@ -142,8 +142,9 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
   corners_ = gpu::createBufferWithData(context, std::span<const glm::vec3>(corners),
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
   lights_ = uploadTexels(context, scene.lights, "scene lights");
-  bvhNodes_ = uploadTexels(context, packBvhWideNodes(bvh), "bvh nodes");
-  bvhTriangles_ = uploadTexels(context, bvh.triangles, "bvh triangles");
+  PackedBvh packed = packBvh(bvh);
+  bvhNodes_ = uploadTexels(context, packed.nodes, "bvh nodes");
+  bvhTriangles_ = uploadTexels(context, packed.triangles, "bvh triangles");
   for (const gpu::Buffer* buffer :
        {&vertices_, &triangles_, &materials_, &lights_, &bvhNodes_, &bvhTriangles_})
     texelViews_.push_back(createTexelView(context, *buffer, "texels"));

@@ -5,8 +5,7 @@
 #ifndef HDOF_LIB_BVH_TRAVERSE_GLSL
 #define HDOF_LIB_BVH_TRAVERSE_GLSL
 
-// Nodes and triangles read as 16-byte texels of uniform texel buffers (four per node, three per
-// triangle): one typed load each, through the texture cache on GPUs; lavapipe turns them into
+// Nodes and triangles read as 16-byte texels of uniform texel buffers (three each): one typed load each, through the texture cache on GPUs; lavapipe turns them into
 // vector gathers, where it splits storage-buffer loads into a loop over the lanes.
 layout(set = 0, binding = kBindingBvhNodes) uniform usamplerBuffer bvhNodeTexels;
 layout(set = 0, binding = kBindingBvhTriangles) uniform usamplerBuffer bvhTriangleTexels;
@@ -87,14 +86,22 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
     // some (or is done), so the triangle loop below keeps the lanes busy together.
     uvec4 leafFirst = uvec4(0u), leafCount = uvec4(0u);
     while (traversing && leafCount == uvec4(0u)) {
-      uvec4 row0 = texelFetch(bvhNodeTexels, int(node * 4u));
-      uvec4 row1 = texelFetch(bvhNodeTexels, int(node * 4u + 1u));
-      uvec4 row2 = texelFetch(bvhNodeTexels, int(node * 4u + 2u));
-      uvec4 links = texelFetch(bvhNodeTexels, int(node * 4u + 3u));
-      vec3 gridOrigin = uintBitsToFloat(row0.xyz);
-      vec3 gridStep = uintBitsToFloat(((uvec3(row0.w) >> uvec3(0u, 8u, 16u)) & 0xffu) << 23u);
+      uvec4 row0 = texelFetch(bvhNodeTexels, int(node * 3u));
+      uvec4 row1 = texelFetch(bvhNodeTexels, int(node * 3u + 1u));
+      uvec4 row2 = texelFetch(bvhNodeTexels, int(node * 3u + 2u));
+      vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
+      vec3 gridStep = uintBitsToFloat((row0.xyz & 0xffu) << 23u);
       uvec3 lows = row1.xyz, highs = uvec3(row1.w, row2.xy);
-      uvec4 info = (uvec4(row2.zz, row2.ww) >> uvec4(0u, 16u, 0u, 16u)) & 0xffffu;
+      uvec4 info = (uvec4(row2.z) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu;
+      // Links: interior children are consecutive nodes from the first, leaves' triangles
+      // consecutive from the first triangle, both in child order.
+      bvec4 interior = equal(info, uvec4(kBvhInteriorChild));
+      uvec4 sizes = mix(mix(info, uvec4(0u), equal(info, uvec4(kBvhEmptyChild))), uvec4(1u),
+                        interior);
+      uvec4 before = uvec4(0u, sizes.x, sizes.x + sizes.y, sizes.x + sizes.y + sizes.z);
+      uvec4 interiorBefore = uvec4(0u, uint(interior.x), uint(interior.x) + uint(interior.y),
+                                   uint(interior.x) + uint(interior.y) + uint(interior.z));
+      uvec4 links = mix(row2.w + before - interiorBefore, row0.w + interiorBefore, interior);
       vec4 entries;
       for (uint k = 0u; k < kBvhWidth; ++k) {
         uint shift = 8u * k;

@@ -120,25 +120,30 @@ struct BvhTriangle {
 
 // BVH node as the compute shaders traverse it: up to four nodes of the built tree (an interior
 // node's children, the widest interior ones replaced by their own children), their boxes
-// quantised to 8 bits per plane on a grid that starts at `origin` and steps by a power of two per
-// axis (the compressed wide BVH of Ylitie et al. 2017). One 64-byte fetch tests four boxes; the
-// grid rounds every box outwards, never inwards. Child k is byte k of each quantised plane and 16
-// bits of childInfo (word k / 2, bits 16 * (k % 2)): kBvhInteriorChild for a node, whose index is
-// links[k]; kBvhEmptyChild for no child; otherwise a leaf of that many triangles starting at
-// links[k] in leaf order. Node 0 holds the root's children. Rows (16 bytes): origin and
-// exponents; lowX, lowY, lowZ, highX; highY, highZ and childInfo; links.
+// quantised to 8 bits per plane on a grid that starts at an origin and steps by a power of two per
+// axis (the compressed wide BVH of Ylitie et al. 2017). Three 16-byte rows test four boxes; the
+// grid rounds every box outwards, never inwards. Child k is byte k of each quantised plane and of
+// childInfo: kBvhInteriorChild for a node, kBvhEmptyChild for no child, otherwise a leaf of that
+// many triangles. A node's interior children are the nodes from firstNode on, one after the other
+// in child order, and its leaves' triangles follow one another from firstTriangle in the packed
+// triangle array, in child order (so a child's link is a count of the children before it). Node 0
+// holds the root's children. Rows: origin[3], firstNode; lowX, lowY, lowZ, highX; highY, highZ,
+// childInfo, firstTriangle.
 HDOF_CONST uint kBvhWidth = 4;
 HDOF_CONST uint kBvhInteriorChild = 0u;
-HDOF_CONST uint kBvhEmptyChild = 0xffffu;
-HDOF_CONST uint kBvhMaxLeafTriangles = 0xfffeu;
+HDOF_CONST uint kBvhEmptyChild = 0xffu;
+HDOF_CONST uint kBvhMaxLeafTriangles = 0xfeu;
 
 struct BvhWideNode {
-  vec3 origin;
-  uint exponents;  // byte a: the grid's step along axis a, as the biased exponent of a float
+  // The grid's origin along each axis as float bits whose low byte is the grid's step along that
+  // axis (a power of two, as the biased exponent of a float): the origin is rounded down to the
+  // 16 bits of mantissa left.
+  uint origin[3];
+  uint firstNode;
   uint lowX, lowY, lowZ;
   uint highX, highY, highZ;
-  uint childInfo[2];
-  uint links[4];
+  uint childInfo;
+  uint firstTriangle;
 };
 
 HDOF_CONST uint kBvhStackSize = 64;
@@ -161,10 +166,10 @@ static_assert(offsetof(hdof::gpu::Light, color) == 32);
 static_assert(sizeof(hdof::gpu::BvhNode) == 32);
 static_assert(offsetof(hdof::gpu::BvhNode, boundsMax) == 16);
 static_assert(sizeof(hdof::gpu::BvhTriangle) == 48);
-static_assert(sizeof(hdof::gpu::BvhWideNode) == 64);
+static_assert(sizeof(hdof::gpu::BvhWideNode) == 48);
 static_assert(offsetof(hdof::gpu::BvhWideNode, lowX) == 16);
 static_assert(offsetof(hdof::gpu::BvhWideNode, highY) == 32);
-static_assert(offsetof(hdof::gpu::BvhWideNode, links) == 48);
+static_assert(offsetof(hdof::gpu::BvhWideNode, firstTriangle) == 44);
 #endif
 
 #endif

@@ -23,12 +23,19 @@ Aabb triangleBounds(const Scene& scene, const gpu::BvhTriangle& triangle) {
   return bounds;
 }
 
-// Walks the packed tree: every node is reached once, every triangle slot of the built tree lies
-// in exactly one leaf, and each child's decoded box holds every triangle beneath it, exactly (the
-// grid rounds outwards), and exceeds their bounds by at most two grid steps per plane.
+// Walks the packed tree: every node is reached once, every packed triangle lies in exactly one
+// leaf, the packed triangles are the built tree's, and each child's decoded box holds every
+// triangle beneath it, exactly (the grid rounds outwards), and exceeds their bounds by at most two
+// grid steps per plane.
 void expectSameTreeInBoxesThatOnlyGrow(const Scene& scene, const Bvh& bvh,
-                                       const std::vector<gpu::BvhWideNode>& wide) {
-  std::vector<int> visits(wide.size(), 0), slots(bvh.triangles.size(), 0);
+                                       const PackedBvh& packed) {
+  const std::vector<gpu::BvhWideNode>& wide = packed.nodes;
+  ASSERT_EQ(packed.triangles.size(), bvh.triangles.size());
+  std::vector<int> packedTimes(scene.triangleCount(), 0), builtTimes(scene.triangleCount(), 0);
+  for (const gpu::BvhTriangle& t : packed.triangles) ++packedTimes.at(t.index);
+  for (const gpu::BvhTriangle& t : bvh.triangles) ++builtTimes.at(t.index);
+  ASSERT_EQ(packedTimes, builtTimes);
+  std::vector<int> visits(wide.size(), 0), slots(packed.triangles.size(), 0);
   std::function<Aabb(uint32_t)> walk = [&](uint32_t index) {
     Aabb all;
     if (index >= wide.size()) {
@@ -41,19 +48,20 @@ void expectSameTreeInBoxesThatOnlyGrow(const Scene& scene, const Bvh& bvh,
       uint32_t info = wideChildInfo(node, k);
       if (info == gpu::kBvhEmptyChild) continue;
       Aabb beneath;
+      uint32_t link = wideChildLink(node, k);
       if (info == gpu::kBvhInteriorChild) {
-        beneath = walk(node.links[k]);
+        beneath = walk(link);
       } else {
-        EXPECT_LE(size_t{node.links[k]} + info, bvh.triangles.size());
-        for (uint32_t slot = node.links[k]; slot < node.links[k] + info; ++slot) {
+        EXPECT_LE(size_t{link} + info, packed.triangles.size());
+        for (uint32_t slot = link; slot < link + info; ++slot) {
           ++slots.at(slot);
-          beneath.grow(triangleBounds(scene, bvh.triangles[slot]));
+          beneath.grow(triangleBounds(scene, packed.triangles[slot]));
         }
       }
       Aabb box = wideChildBounds(node, k);
       EXPECT_TRUE(contains(box, beneath)) << "node " << index << " child " << k;
       for (int axis = 0; axis < 3; ++axis) {
-        float step = std::ldexp(1.0f, int((node.exponents >> (8 * axis)) & 0xffu) - 127);
+        float step = std::ldexp(1.0f, int(node.origin[axis] & 0xffu) - 127);
         EXPECT_GE(box.min[axis], beneath.min[axis] - 2.0f * step);
         EXPECT_LE(box.max[axis], beneath.max[axis] + 2.0f * step);
       }
@@ -71,15 +79,15 @@ TEST(GpuBvh, WideNodesHoldTheSameTreeInBoxesThatOnlyGrow) {
   for (BvhBuildOptions options : {BvhBuildOptions{}, BvhBuildOptions{4, 1}}) {
     Bvh bvh = buildBvh(dof.vertices, dof.indices, options);
     ASSERT_GT(bvh.nodes.size(), 1u);
-    expectSameTreeInBoxesThatOnlyGrow(dof, bvh, packBvhWideNodes(bvh));
+    expectSameTreeInBoxesThatOnlyGrow(dof, bvh, packBvh(bvh));
   }
   Scene room = loadScene(kLivingRoom);
   Bvh bvh = buildBvh(room.vertices, room.indices);
-  std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(bvh);
-  expectSameTreeInBoxesThatOnlyGrow(room, bvh, wide);
+  PackedBvh packed = packBvh(bvh);
+  expectSameTreeInBoxesThatOnlyGrow(room, bvh, packed);
   // Collapsed: a binary tree of n interior nodes becomes at most about n / 3 wide ones.
   size_t interior = (bvh.nodes.size() - 1) / 2;
-  EXPECT_LT(wide.size(), interior / 2);
+  EXPECT_LT(packed.nodes.size(), interior / 2);
 }
 
 // The shader's traversal, reduced to its pruning: from the root, only children whose decoded box
@@ -88,10 +96,11 @@ TEST(GpuBvh, WideNodesHoldTheSameTreeInBoxesThatOnlyGrow) {
 TEST(GpuBvh, ATraversalOfWideNodesReachesTheClosestHit) {
   for (const Scene& scene : {makeBuiltinScene("dof"), loadScene(kLivingRoom)}) {
     Bvh bvh = buildBvh(scene.vertices, scene.indices);
-    std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(bvh);
-    std::vector<uint32_t> slotOf(bvh.triangles.size());
-    for (uint32_t slot = 0; slot < bvh.triangles.size(); ++slot)
-      slotOf[bvh.triangles[slot].index] = slot;
+    PackedBvh packed = packBvh(bvh);
+    const std::vector<gpu::BvhWideNode>& wide = packed.nodes;
+    std::vector<uint32_t> slotOf(scene.triangleCount());
+    for (uint32_t slot = 0; slot < packed.triangles.size(); ++slot)
+      slotOf[packed.triangles[slot].index] = slot;
     std::mt19937 random(7);
     std::uniform_real_distribution<float> unit(0.0f, 1.0f);
     std::normal_distribution<float> gaussian;
@@ -118,10 +127,11 @@ TEST(GpuBvh, ATraversalOfWideNodesReachesTheClosestHit) {
           if (info == gpu::kBvhEmptyChild ||
               std::isinf(enterBox(wideChildBounds(node, k), origin, inverse, 0.0f, reach)))
             continue;
+          uint32_t link = wideChildLink(node, k);
           if (info == gpu::kBvhInteriorChild)
-            stack.push_back(node.links[k]);
+            stack.push_back(link);
           else
-            reached |= target >= node.links[k] && target < node.links[k] + info;
+            reached |= target >= link && target < link + info;
         }
       }
       ASSERT_TRUE(reached) << scene.name << " ray " << ray;
@@ -134,15 +144,15 @@ TEST(GpuBvh, ALeafRootIsTheOnlyChildOfNodeZero) {
   std::vector<gpu::Vertex> vertices(3);
   vertices[1].position = {1, 0, 0};
   vertices[2].position = {0, 1, 0};
-  std::vector<gpu::BvhWideNode> wide = packBvhWideNodes(buildBvh(vertices, {0, 1, 2}));
+  std::vector<gpu::BvhWideNode> wide = packBvh(buildBvh(vertices, {0, 1, 2})).nodes;
   ASSERT_EQ(wide.size(), 1u);
   EXPECT_EQ(wideChildInfo(wide[0], 0), 1u);
-  EXPECT_EQ(wide[0].links[0], 0u);
+  EXPECT_EQ(wideChildLink(wide[0], 0), 0u);
   EXPECT_TRUE(contains(wideChildBounds(wide[0], 0), Aabb{{0, 0, 0}, {1, 1, 0}}));
   for (uint32_t k = 1; k < gpu::kBvhWidth; ++k)
     EXPECT_EQ(wideChildInfo(wide[0], k), gpu::kBvhEmptyChild);
 
-  std::vector<gpu::BvhWideNode> empty = packBvhWideNodes(buildBvh({}, {}));
+  std::vector<gpu::BvhWideNode> empty = packBvh(buildBvh({}, {})).nodes;
   ASSERT_EQ(empty.size(), 1u);
   for (uint32_t k = 0; k < gpu::kBvhWidth; ++k)
     EXPECT_EQ(wideChildInfo(empty[0], k), gpu::kBvhEmptyChild);
