@@ -17,6 +17,11 @@ layout(set = 1, binding = 2, rgba16f) uniform readonly image2D history;  // anti
 layout(set = 1, binding = 3, rg16f) uniform readonly image2D motion;  // pixels to where it was
 layout(set = 1, binding = 4) uniform writeonly image2D outColor;  // rgba16f
 
+// Whether this pipeline serves only a still view's later samples (the running average: the frame
+// uniforms' rasterSample above 0; gbuffer_pass.cpp picks), made without the reprojection that a
+// device running every branch under a mask would otherwise pay for on every such frame.
+layout(constant_id = 0) const bool kStillSamples = false;
+
 layout(push_constant) uniform Push {
   uint historyValid;  // 0 on a cut, a new viewport or the first frame
 } push;
@@ -46,7 +51,7 @@ void main() {
     vec3 previous = imageLoad(history, pixel).rgb;
     float samples = float(frame.rasterSample + 1u);
     result = previous + (current - previous) / samples;
-  } else if (push.historyValid != 0u) {
+  } else if (!kStillSamples && push.historyValid != 0u) {
     vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;
     if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize)))) {
       vec3 low = current, high = current;

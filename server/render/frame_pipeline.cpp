@@ -117,7 +117,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
     case RenderMode::Hybrid:
       // A still view whose raster has all its samples keeps its G-buffer.
       if (uniforms.rasterSample < gpu::kMaxRasterSamples)
-        gbuffer_.record(steps, im.gbuffer, uniforms.viewProj, raster_.valid);
+        gbuffer_.record(steps, im.gbuffer, uniforms, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
         if (!keepDofOutput_) postProcess_.record(steps, im.gbuffer, im.dof);

@@ -87,6 +87,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
       renderPass_(createRenderPass(context)),
       layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
       resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
+      antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
       antialias_(context, "antialias.comp") {
   gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
   gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
@@ -174,7 +175,7 @@ void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32
 }
 
 void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
-                         const glm::mat4& viewProj, bool historyValid) const {
+                         const gpu::FrameUniforms& uniforms, bool historyValid) const {
   steps.step("visibility", [&](VkCommandBuffer cmd) {
     VkClearValue clears[2] = {};
     clears[0].color.uint32[0] = kNoTriangle;
@@ -197,7 +198,7 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
     VkBuffer corners = scene_.cornerBuffer().get();
     VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
-    for (const TriangleRange& range : visibleTriangles(runs_, viewProj))
+    for (const TriangleRange& range : visibleTriangles(runs_, uniforms.viewProj))
       vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
     vkCmdEndRenderPass(cmd);
   });
@@ -212,7 +213,7 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
     gpu::copyImage(cmd, images.color, images.colorHistory);
   });
   uint32_t valid = historyValid ? 1u : 0u;
-  steps.dispatch(antialias_,
+  steps.dispatch(uniforms.rasterSample > 0 ? antialiasStill_ : antialias_,
                  {{"rasterColor", images.rasterColor},
                   {"history", images.colorHistory},
                   {"motion", images.motion},

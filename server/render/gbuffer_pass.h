@@ -9,6 +9,8 @@
 #include "render/raster_culling.h"
 #include "render/steps.h"
 
+#include <shared/frame.h>
+
 namespace hdof {
 
 class GBufferPass {
@@ -17,10 +19,11 @@ class GBufferPass {
 
   // Makes the framebuffer for a new set of images (call after they change).
   void bindImages(const GBufferImages& images, uint32_t width, uint32_t height);
-  // The steps "visibility", "gbuffer" (the resolve) and "antialias". viewProj: the frame
-  // uniforms', for culling on the CPU. historyValid: images.color holds the previous frame's
-  // anti-aliased colour (false after a cut or on a new viewport).
-  void record(StepRecorder& steps, const GBufferImages& images, const glm::mat4& viewProj,
+  // The steps "visibility", "gbuffer" (the resolve) and "antialias". uniforms: the frame's (its
+  // viewProj culls on the CPU; its rasterSample picks the anti-aliasing's pipeline).
+  // historyValid: images.color holds the previous frame's anti-aliased colour (false after a cut
+  // or on a new viewport).
+  void record(StepRecorder& steps, const GBufferImages& images, const gpu::FrameUniforms& uniforms,
               bool historyValid) const;
 
  private:
@@ -32,7 +35,9 @@ class GBufferPass {
   VkExtent2D extent_{};
   gpu::ProgramLayout layout_;
   gpu::Pipeline pipeline_;
-  gpu::ComputeProgram resolve_, antialias_;
+  gpu::ComputeProgram resolve_;
+  // antialias.comp for a still view's later samples, and for the other frames.
+  gpu::ComputeProgram antialiasStill_, antialias_;
 };
 
 }  // namespace hdof

@@ -62,7 +62,7 @@ class RayMaskRig {
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
       StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
-      gbuffer_.record(steps, images_.gbuffer, uniforms.viewProj, false);
+      gbuffer_.record(steps, images_.gbuffer, uniforms, false);
     });
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
