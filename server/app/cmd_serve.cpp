@@ -12,6 +12,7 @@
 #include "net/message_codec.h"
 #include "net/ws_server.h"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <signal.h>
 
@@ -225,6 +226,10 @@ int runServe(std::span<const std::string> args) {
     std::this_thread::sleep_for(std::chrono::seconds(60));
   }
 
+  // Sessions reallocate their images whenever the interactive scale changes. glibc would raise
+  // its mmap threshold past the size of a freed image and serve the next ones from the heap,
+  // which does not shrink: fixed, every large block is mapped and goes back when freed.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   SceneOptions sceneOptions{config.scene, "", device, verbose};
   LoadedScene loaded = loadSceneWithBvh(sceneOptions);
   gpu::Context context(contextOptions(sceneOptions));
