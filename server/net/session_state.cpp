@@ -58,15 +58,24 @@ uint32_t SessionState::framesOfAStillView() const {
   return std::min(defaults_.accumulationFrames, kRasterRefineFrames);
 }
 
-float SessionState::interactiveScale() const {
+float SessionState::interactiveScale() {
   if (defaults_.targetFps <= 0.0 || msPerPixel_ <= 0.0) return 1.0f;
   Viewport full = renderSize();
   double budgetMs = 1000.0 / defaults_.targetFps;
   double fullMs = msPerPixel_ * double(full.width) * double(full.height);
-  if (fullMs <= budgetMs) return 1.0f;
-  // Render time goes with the pixels: the square of the scale.
-  float scale = float(std::sqrt(budgetMs / fullMs));
-  return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
+  // The largest step whose predicted time fits `ms`; render time goes with the pixels: the
+  // square of the scale.
+  auto fitting = [&](double ms) {
+    if (fullMs <= ms) return 1.0f;
+    float scale = float(std::sqrt(ms / fullMs));
+    return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
+  };
+  float down = fitting(budgetMs), up = fitting(kScaleUpMargin * budgetMs);
+  if (down < movingScale_)
+    movingScale_ = down;
+  else if (up > movingScale_)
+    movingScale_ = up;
+  return movingScale_;
 }
 
 void SessionState::frameRendered(double renderMs) {

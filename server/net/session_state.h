@@ -97,9 +97,12 @@ class SessionState {
   uint32_t framesOfAStillView() const;
   static constexpr uint32_t kRasterRefineFrames = gpu::kMaxRasterSamples;
   // The scale (of renderSize) a moving frame renders at: the largest step of kScaleStep, down
-  // to kMinScale, whose predicted render time fits 1 / target_fps.
-  float interactiveScale() const;
+  // to kMinScale, whose predicted render time fits 1 / target_fps. It steps up only when the
+  // larger step fits kScaleUpMargin of that, so that noisy frame times do not make every
+  // frame another size (a new size reallocates the images and restarts the history).
+  float interactiveScale();
   static constexpr float kScaleStep = 0.125f, kMinScale = 0.25f;
+  static constexpr double kScaleUpMargin = 0.8;
 
   SessionDefaults defaults_;
   Viewport viewport_;
@@ -128,6 +131,7 @@ class SessionState {
   bool lastFrameMoving_ = false;
   uint32_t lastFramePixels_ = 0;
   double msPerPixel_ = 0.0;  // moving frames' render time per pixel (moving average); 0: unknown
+  float movingScale_ = 1.0f;  // the scale of the last moving frame
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started
   uint32_t lastSent_ = 0;   // the newest frame written to the connection

@@ -258,6 +258,34 @@ TEST(SessionState, AMovingViewRendersAtTheScaleThatHoldsTargetFps) {
   EXPECT_EQ(resting.renderScale, 1.0f);
 }
 
+// Frame times that hover at a step's boundary keep the moving scale where it is (each new size
+// reallocates the images and restarts the history); it steps up once the larger step fits with
+// room to spare.
+TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  uint32_t frame = 0;
+  // Moving frames that each take `msPerPixel` for every pixel they render.
+  auto moveFor = [&](int frames, double msPerPixel) {
+    FramePlan plan;
+    for (int i = 0; i < frames; ++i) {
+      auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+      s.apply(camera(frame, float(frame)), at);
+      plan = s.startFrame(at, noFocus);
+      s.frameRendered(msPerPixel * plan.request.settings.width * plan.request.settings.height);
+      sentAndAcked(s, frame, at);
+    }
+    return plan.renderScale;
+  };
+  EXPECT_EQ(moveFor(2, 0.01), 0.5f) << "the full size would take 200 ms";
+  // 120 ms at full size: 5/8 would fit 50 ms (47 ms), not 40.
+  EXPECT_EQ(moveFor(12, 0.006), 0.5f) << "no step up without room to spare";
+  // 80 ms: 5/8 takes 31 ms.
+  EXPECT_EQ(moveFor(12, 0.004), 0.625f);
+  EXPECT_EQ(moveFor(12, 0.02), 0.25f) << "down at once";
+}
+
 TEST(SessionState, TargetFpsZeroNeverScales) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 0.0;
