@@ -1,11 +1,14 @@
 // Spatial reconstruction of the hybrid's ray-traced layers (stage 6, after the temporal
-// accumulation, as in the paper): each traced pixel gathers its traced neighbours over a disc whose
-// radius is the pixel's circle of confusion (the average near and far CoC blended by the
-// accumulated hit ratio), rejecting neighbours whose own CoC is smaller than their distance (their
-// blur does not reach this pixel), and weighting them by how far their luminance lies from this
-// pixel's in units of the noise left in its average (the clamped variance of its rays over the rays
-// accumulated): a young, noisy pixel borrows from its neighbours, a converged one keeps its own
-// colour. One thread per pixel of the ray mask's work list.
+// accumulation, as in the paper): each traced pixel gathers its traced neighbours over a disc of an
+// eighth of its circle of confusion (the average near and far CoC blended by the accumulated hit
+// ratio), rejecting neighbours whose own CoC is smaller than their distance (their blur does not
+// reach this pixel), and weighting them by how far their luminance lies from this pixel's in units
+// of the noise left in its average (the clamped variance of its rays over the rays accumulated): a
+// young, noisy pixel borrows from its neighbours, a converged one keeps its own colour. The traced
+// colour is already the lens's blur of the scene, so it changes across the CoC: a disc of half the
+// CoC blurred it a second time (a biased edge that more rays never removed), an eighth of it holds
+// a pixel's blur the same while still denoising wide blurs. One thread per pixel of the ray mask's
+// work list.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -25,6 +28,7 @@ layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
 
 const int kTaps = 12;
+const float kRadiusOfCoc = 0.125;  // the disc's radius over the pixel's CoC (its diameter)
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
 const float kVarianceMin = 1e-4, kVarianceMax = 1.0;
 const float kLuminanceSigmas = 2.0;
@@ -43,28 +47,29 @@ void main() {
   float lum = luminance(near.rgb + far.rgb);
   float samples = max(texelFetch(historyMoments, pixel, 0).z, 1.0);
   float noise = sqrt(clamp(texelFetch(variance, pixel, 0).r, kVarianceMin, kVarianceMax) / samples);
-  float radius = min(0.5 * blendedCoc(pixel, near.a), kMaxRadius);
+  float radius = min(kRadiusOfCoc * blendedCoc(pixel, near.a), kMaxRadius);
 
   vec4 nearSum = near, farSum = far;
   float weightSum = 1.0;
-  if (radius >= 1.0) {
-    ivec2 size = ivec2(frame.imageSize);
-    float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
-    for (int i = 0; i < kTaps; ++i) {
-      // A Vogel spiral over the disc, turned per pixel so that no pattern shows.
-      float r = radius * sqrt((float(i) + 0.5) / float(kTaps));
-      float angle = 2.0 * kPi * (float(i) * 0.618034 + turn);
-      ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      if (texelFetch(rays, q, 0).r == 0u) continue;
-      vec4 qNear = texelFetch(historyNear, q, 0);
-      if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
-      vec4 qFar = texelFetch(historyFar, q, 0);
-      float w = exp(-abs(luminance(qNear.rgb + qFar.rgb) - lum) / (kLuminanceSigmas * noise));
-      nearSum += w * qNear;
-      farSum += w * qFar;
-      weightSum += w;
-    }
+  ivec2 size = ivec2(frame.imageSize);
+  float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
+  // No taps under a pixel's radius. A bound rather than a branch: a device that runs both sides
+  // of a branch under a mask (lavapipe) still leaves a loop that no lane enters.
+  int taps = radius >= 1.0 ? kTaps : 0;
+  for (int i = 0; i < taps; ++i) {
+    // A Vogel spiral over the disc, turned per pixel so that no pattern shows.
+    float r = radius * sqrt((float(i) + 0.5) / float(kTaps));
+    float angle = 2.0 * kPi * (float(i) * 0.618034 + turn);
+    ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+    if (texelFetch(rays, q, 0).r == 0u) continue;
+    vec4 qNear = texelFetch(historyNear, q, 0);
+    if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
+    vec4 qFar = texelFetch(historyFar, q, 0);
+    float w = exp(-abs(luminance(qNear.rgb + qFar.rgb) - lum) / (kLuminanceSigmas * noise));
+    nearSum += w * qNear;
+    farSum += w * qFar;
+    weightSum += w;
   }
   imageStore(outNear, pixel, nearSum / weightSum);
   imageStore(outFar, pixel, vec4(farSum.rgb / weightSum, far.a));

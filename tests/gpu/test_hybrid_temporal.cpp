@@ -1,5 +1,6 @@
 // Temporal accumulation of the hybrid's ray-traced layers: history grows while the view rests,
-// the variance that drives the ray mask settles, and a cut starts over.
+// the variance that drives the ray mask settles, and a cut starts over; the spatial
+// reconstruction after it.
 #include "quality/occlusion_mask.h"
 #include "render_fixture.h"
 
@@ -20,6 +21,7 @@ struct TemporalRig {
   SceneOnGpu& scene = testScene("builtin:dof");
   FramePipeline pipeline{testContext(), scene.scene, *scene.gpu, kWidth, kHeight};
   uint32_t frame = 0;
+  float fNumber = 1.4f;
 
   // focusScale: the focus distance over the scene camera's (a lens change when it differs from
   // the previous frame's); shift: metres the camera moves to its right.
@@ -30,7 +32,7 @@ struct TemporalRig {
     request.camera.position +=
         shift * glm::normalize(glm::cross(request.camera.forward, request.camera.up));
     request.lens = onSceneCameraSensor(
-        Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance * focusScale},
+        Lens{50.0f, fNumber, *scene.scene.cameras.front().focusDistance * focusScale},
         scene.scene.cameras.front(), kWidth, kHeight);
     request.settings = {kWidth, kHeight, frame, kRaysPerPixel};
     if (cut) pipeline.resetHistory();
@@ -154,6 +156,39 @@ TEST(HybridTemporal, AChangeClampsTheHistoryToThisFramesRays) {
   EXPECT_GT(historyOutsideThisFramesRays(rig), 0) << "resting again";
   rig.render(false, 1.02f, 0.05f);
   EXPECT_EQ(historyOutsideThisFramesRays(rig), 0) << "the camera moved";
+}
+
+// The traced colour is already the lens's blur, so the spatial reconstruction gathers over an
+// eighth of a pixel's CoC, not over the blur itself (which blurred it twice): a traced pixel
+// whose blur is under 8 px keeps its accumulated colour; wider ones still borrow from their
+// neighbours.
+TEST(HybridSpatial, GathersOverAnEighthOfTheBlur) {
+  TemporalRig rig;
+  rig.fNumber = 0.5f;  // blurs from a pixel to tens of them at 160x90
+  for (int i = 0; i < 2; ++i) rig.render(false);
+  const HybridImages& images = rig.pipeline.images().hybrid;
+  std::vector<glm::vec4> moments = readImage(rig.history().moments);
+  std::vector<glm::vec4> history = readImage(rig.history().nearLayer);
+  std::vector<glm::vec4> reconstructed = readImage(images.reconstructedNear);
+  std::vector<glm::vec4> coc = readImage(images.layerCoc);
+  int kept = 0, narrow = 0, borrowed = 0, wide = 0;
+  for (size_t i = 0; i < moments.size(); ++i) {
+    if (moments[i].z == 0.0f) continue;  // not traced this frame
+    float blur = glm::mix(std::abs(coc[i].y), coc[i].x, history[i].a);
+    if (blur < 7.5f) {
+      ++narrow;
+      kept += reconstructed[i] == history[i];
+    } else if (blur > 9.0f) {
+      ++wide;
+      borrowed += reconstructed[i] != history[i];
+    }
+  }
+  std::printf("blurs under 8 px: %d of %d kept; over 9 px: %d of %d borrowed\n", kept, narrow,
+              borrowed, wide);
+  EXPECT_GT(narrow, 100);
+  EXPECT_EQ(kept, narrow);
+  EXPECT_GT(wide, 100);
+  EXPECT_GT(borrowed, wide / 2);
 }
 
 TEST(HybridMode, RendersThroughTheFramePipeline) {
