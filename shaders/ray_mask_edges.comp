@@ -8,7 +8,9 @@
 // |CoC| of its sharper side (how fine the detail its rays see can be: rays by CoC). In the
 // far field only depth edges with a wide enough blur count: creases of a surface and small
 // background blurs are the post-process's, except while the view rests, when every edge whose blur
-// spans a pixel gets rays so that a still frame converges to the lens's image.
+// spans a pixel gets rays so that a still frame converges to the lens's image, and so do the
+// pixels that an in-focus edge crosses: the raster's 16 samples leave them short of the traced
+// image's antialiasing.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -36,10 +38,18 @@ void main() {
   float inverseDxx = 0.0, inverseDyy = 0.0;
   float nearestInverse = 0.0;  // the near side of any edge the kernel sees
   float farthestInverse = 1e4;  // and its far side
+  // The same over the pixel's 3x3 neighbourhood, and the normals' least agreement with its own.
+  float innerNearest = 0.0, innerFarthest = 1e4, innerNormals = 1.0;
+  vec3 ownNormal = imageLoad(normalDepth, pixel).xyz;
   [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
     [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
       vec4 texel = imageLoad(normalDepth, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1));
       float inverseDepth = 1.0 / max(texel.w, 1e-4);
+      if (abs(dx) <= 1 && abs(dy) <= 1) {
+        innerNearest = max(innerNearest, inverseDepth);
+        innerFarthest = min(innerFarthest, inverseDepth);
+        innerNormals = min(innerNormals, dot(texel.xyz, ownNormal));
+      }
       normalDx += derivative(dx) * smoothing(dy) * texel.xyz;
       normalDy += smoothing(dx) * derivative(dy) * texel.xyz;
       inverseDxx += secondDifference(dx) * smoothing(dy) * inverseDepth;
@@ -78,6 +88,15 @@ void main() {
     needsRays = true;
     edge = max(depthEdge, normalEdge);
     diameter = min(wider, kRayMaskSilhouetteReach) + 2.0;
+  }
+  // ... and the pixels that an in-focus edge crosses (a depth or normal step within the 3x3),
+  // alone: the composite hands them over to their traced colour as its rays add up.
+  bool crossed = innerNearest > innerFarthest * (1.0 + kRayMaskDepthJumpLow) ||
+                 innerNormals < kRayMaskCrossedNormal;
+  if (!needsRays && frame.rasterSample > 0u && max(depthEdge, normalEdge) > 0.0 && crossed) {
+    needsRays = true;
+    edge = max(depthEdge, normalEdge);
+    diameter = 1.0;
   }
   imageStore(reach, pixel, vec4(diameter));
   imageStore(strength, pixel, vec4(needsRays ? edge : 0.0, min(nearCoc, abs(farCoc)), 0.0, 0.0));

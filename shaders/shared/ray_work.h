@@ -38,6 +38,9 @@ HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
 // Rays by CoC: a pixel whose nearby edges are blurred on both sides by more than this CoC
 // diameter (pixels) gets fewer rays, by the ratio of the blur areas (a quarter at twice it).
 HDOF_CONST float kRayMaskDenseCoc = 4.0;
+// An edge of the resting view's raster crosses a pixel when a neighbour's normal turns from the
+// pixel's by more than this cosine, or its depth jumps by kRayMaskDepthJumpLow.
+HDOF_CONST float kRayMaskCrossedNormal = 0.9;
 // The widest band (pixels) traced beside an in-focus silhouette over a blurred background.
 HDOF_CONST float kRayMaskSilhouetteReach = 8.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a

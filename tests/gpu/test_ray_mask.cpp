@@ -41,6 +41,7 @@ class RayMaskRig {
 
   struct Frame {
     std::vector<float> depth;
+    std::vector<glm::vec3> normals;
     std::vector<uint8_t> rays;
     gpu::RayWorkHeader header{};
     std::vector<glm::uvec2> entries;
@@ -49,8 +50,8 @@ class RayMaskRig {
     std::vector<std::pair<std::string, double>> passMs;
   };
 
-  // lens.focusDistance 0: the scene camera's suggestion.
-  Frame render(Lens lens, const gpu::Image* variance = nullptr) {
+  // lens.focusDistance 0: the scene camera's suggestion. rasterSample > 0: a resting view's.
+  Frame render(Lens lens, const gpu::Image* variance = nullptr, uint32_t rasterSample = 0) {
     if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
     FrameSettings settings;
     settings.width = width();
@@ -58,6 +59,7 @@ class RayMaskRig {
     lens = onSceneCameraSensor(lens, scene_.scene.cameras.front(), width(), height());
     settings.samplesPerPixel = kSamplesPerPixel;
     gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
+    uniforms.rasterSample = rasterSample;
     std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
@@ -77,8 +79,10 @@ class RayMaskRig {
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       gpu::copyBufferToHost(cmd, images_.mask.workList, listReadback_, listReadback_.size());
     });
-    for (const glm::vec4& texel : readImage(images_.gbuffer.normalDepth))
+    for (const glm::vec4& texel : readImage(images_.gbuffer.normalDepth)) {
       frame.depth.push_back(texel.w);
+      frame.normals.push_back(glm::vec3(texel));
+    }
     frame.rays = readBytes(images_.mask.rays);
     const auto* list = static_cast<const std::byte*>(listReadback_.mapped());
     std::memcpy(&frame.header, list, sizeof(frame.header));
@@ -213,6 +217,37 @@ TEST(RayMask, EdgesBlurredOnBothSidesGetFewerRays) {
   expectListMatchesMask(allBlurred, rig.width());
   RayMaskRig::Frame focused = rig.render(kWideOpen);
   EXPECT_EQ(*std::max_element(focused.rays.begin(), focused.rays.end()), kSamplesPerPixel);
+}
+
+// A resting view also traces the pixels that an in-focus edge crosses (the raster's samples fall
+// short of the traced image's antialiasing there), and those alone: a depth or normal step lies
+// within the 3x3 of every one. A moving view (no raster samples yet) traces none of them.
+TEST(RayMask, ARestingViewTracesThePixelsInFocusEdgesCross) {
+  RayMaskRig rig("builtin:dof", 320, 180);
+  const Lens pinhole{50.0f, 1e6f, 0.0f};
+  EXPECT_EQ(rig.render(pinhole).header.count, 0u) << "nothing is blurred";
+  RayMaskRig::Frame resting = rig.render(pinhole, nullptr, 1);
+  expectListMatchesMask(resting, rig.width());
+  std::printf("edge pixels traced at rest: %.1f%% of the image\n", 100.0 * resting.coverage);
+  EXPECT_GT(resting.coverage, 0.01);
+  EXPECT_LT(resting.coverage, 0.3);
+  int w = int(rig.width()), h = int(rig.height());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (resting.rays[y * w + x] == 0) continue;
+      float nearest = 1e30f, farthest = 0.0f, agreement = 1.0f;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int q = std::clamp(y + dy, 0, h - 1) * w + std::clamp(x + dx, 0, w - 1);
+          nearest = std::min(nearest, resting.depth[q]);
+          farthest = std::max(farthest, resting.depth[q]);
+          agreement = std::min(agreement, glm::dot(resting.normals[q], resting.normals[y * w + x]));
+        }
+      // The shader's test on inverse depths, 1 / nearest > (1 + low) / farthest, with a margin.
+      bool step = farthest > nearest * (1.0f + 0.9f * gpu::kRayMaskDepthJumpLow) ||
+                  agreement < gpu::kRayMaskCrossedNormal + 0.01f;
+      ASSERT_TRUE(step) << "no edge crosses traced pixel " << x << ", " << y;
+    }
 }
 
 // Not a test of speed (that is for benchmarks): prints each pass's GPU time at 640x360.
