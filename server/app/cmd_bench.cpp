@@ -74,24 +74,30 @@ int runBench(std::span<const std::string> args) {
   // post-process it improves on and the full ray trace it approaches (camera still, so the
   // hybrid's mask is the settled one).
   request.settings.samplesPerPixel = comparisonRays;
-  // A frame's time is wall-clock, submit to finish: on lavapipe the passes' timestamps do not
+  // A frame's time is wall-clock, submit to finish, of untimed frames (as the daemon renders most
+  // of its frames): on lavapipe the passes' timestamps cost a few percent of a frame and do not
   // add up to it (a pass's end stamp can precede its work, and the gaps between passes are
-  // missing), by about a third for frames of many passes. Their sum is printed beside it.
+  // missing). The same frames rendered again with timestamps give the passes' times, whose sum is
+  // printed beside it.
   std::vector<double> coverage, raysShot, gpuMs;
-  std::vector<std::pair<std::string, std::vector<double>>> passMs;  // of the last frameMs()
-  auto frameMs = [&](RenderMode mode) {
+  std::vector<std::pair<std::string, std::vector<double>>> passMs;  // of the last timedFrames()
+  auto renderFrames = [&](RenderMode mode, bool timed, auto&& onFrame) {
     request.mode = mode;
+    request.timePasses = timed;
     setup.pipeline.resetHistory();
-    std::vector<double> ms;
+    for (uint32_t i = 0; i <= frames; ++i) {
+      request.settings.frameIndex = i;
+      FrameStats stats = setup.pipeline.render(request);
+      if (i > 0) onFrame(stats);
+    }
+    request.timePasses = true;
+  };
+  auto timedFrames = [&](RenderMode mode) {
     gpuMs.clear();
     coverage.clear();
     raysShot.clear();
     passMs.clear();
-    for (uint32_t i = 0; i <= frames; ++i) {
-      request.settings.frameIndex = i;
-      FrameStats stats = setup.pipeline.render(request);
-      if (i == 0) continue;
-      ms.push_back(stats.wallMs);
+    renderFrames(mode, true, [&](const FrameStats& stats) {
       gpuMs.push_back(stats.gpuMs);
       coverage.push_back(stats.maskCoverage);
       raysShot.push_back(double(stats.raysShot));
@@ -101,7 +107,12 @@ int runBench(std::span<const std::string> args) {
         if (it == passMs.end()) it = passMs.insert(passMs.end(), {pass, {}});
         it->second.push_back(passTime);
       }
-    }
+    });
+  };
+  auto frameMs = [&](RenderMode mode) {
+    std::vector<double> ms;
+    renderFrames(mode, false, [&](const FrameStats& stats) { ms.push_back(stats.wallMs); });
+    timedFrames(mode);
     return median(ms);
   };
   double postProcessFrameMs = frameMs(RenderMode::PostProcess);
@@ -127,7 +138,7 @@ int runBench(std::span<const std::string> args) {
   // How the selective trace scales: the same pass with every pixel listed.
   double maskedTraceMs = passMedian("hybrid_trace");
   request.traceEverywhere = true;
-  frameMs(RenderMode::Hybrid);
+  timedFrames(RenderMode::Hybrid);
   request.traceEverywhere = false;
   double fullTraceMs = passMedian("hybrid_trace");
   double fullRays = median(raysShot);
@@ -138,6 +149,7 @@ int runBench(std::span<const std::string> args) {
   // raster has all its samples, so that only the steps after the G-buffer run.
   auto focusPullMs = [&](RenderMode mode) {
     request.mode = mode;
+    request.timePasses = false;
     setup.pipeline.resetHistory();
     for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i) setup.pipeline.render(request);
     float focus = request.lens.focusDistance;
@@ -147,6 +159,7 @@ int runBench(std::span<const std::string> args) {
       ms.push_back(setup.pipeline.render(request).wallMs);
     }
     request.lens.focusDistance = focus;
+    request.timePasses = true;
     return median(ms);
   };
   double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);

@@ -136,6 +136,7 @@ std::vector<BudgetRow> measureBudgets(FramePipeline& pipeline, FrameRequest requ
     for (uint32_t budget : budgets) {
       request.mode = mode;
       request.settings.samplesPerPixel = std::max(raysOf(mode, rays), 1u);
+      request.timePasses = false;  // as the daemon renders most frames
       pipeline.resetHistory();
       pipeline.cut();
       ImageRgba8 image;

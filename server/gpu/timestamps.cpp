@@ -13,12 +13,14 @@ GpuTimer::GpuTimer(const Context& context, uint32_t maxPasses)
   pool_ = QueryPool(context.device(), pool);
 }
 
-void GpuTimer::reset(VkCommandBuffer cmd) {
+void GpuTimer::reset(VkCommandBuffer cmd, bool timed) {
   names_.clear();
-  if (enabled_) vkCmdResetQueryPool(cmd, pool_, 0, capacity_ * 3);
+  timed_ = timed;
+  if (enabled_ && timed_) vkCmdResetQueryPool(cmd, pool_, 0, capacity_ * 3);
 }
 
 void GpuTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
+  if (!timed_) return;
   if (names_.size() >= capacity_) throw std::logic_error("GpuTimer: too many passes");
   names_.push_back(pass);
   if (!enabled_) return;
@@ -32,7 +34,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
-  if (enabled_)
+  if (enabled_ && timed_)
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, pool_,
                         static_cast<uint32_t>(names_.size() - 1) * 2 + 1);
 }

@@ -87,6 +87,12 @@ class RenderLoop {
     std::unique_ptr<FramePipeline> pipeline;  // render thread only
     bool removed = false;
     uint64_t coalescedReported = 0;
+    // The steps of one frame in kTimedFrameInterval are timed (and the first in a new mode); the
+    // others carry the latest timed frame's figures.
+    uint32_t framesSinceTimed = 0;
+    std::optional<RenderMode> timedMode;
+    std::vector<std::pair<std::string, double>> timedPassMs;
+    double timedGpuMs = 0.0;
   };
   void run();
   void loop();

@@ -191,7 +191,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   VkCommandBuffer cmd = commandBuffer_;
   VK_CHECK(vkResetCommandBuffer(cmd, 0));
   VK_CHECK(vkBeginCommandBuffer(cmd, &kOneTimeSubmit));
-  timer_.reset(cmd);
+  timer_.reset(cmd, request.timePasses);
   // The previous frame's writes (same images) are done and visible before this one starts.
   gpu::memoryBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                      VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,

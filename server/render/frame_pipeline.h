@@ -34,10 +34,13 @@ struct FrameRequest {
   // hybrid: trace every pixel at the full rays, as if the mask covered the image (measures the
   // reconstruction and composite against raytrace).
   bool traceEverywhere = false;
+  // Timestamps around each step (FrameStats::passMs and gpuMs; empty and 0 without). They cost a
+  // software device a few percent of a frame, which an untimed frame saves.
+  bool timePasses = true;
 };
 
 struct FrameStats {
-  std::vector<std::pair<std::string, double>> passMs;  // GPU time per pass
+  std::vector<std::pair<std::string, double>> passMs;  // GPU time per pass, when timed
   double gpuMs = 0.0;                                  // sum of the passes
   double wallMs = 0.0;                                 // submit to finish, as the CPU saw it
   uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far

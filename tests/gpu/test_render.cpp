@@ -147,5 +147,30 @@ TEST(Render, ApertureBladesShapeTheRayTracedBokeh) {
   EXPECT_NEAR(b / a, 1.0, 0.06);
 }
 
+// An untimed frame (most of the daemon's) writes no timestamps and renders the same image.
+TEST(Render, AnUntimedFrameHasNoPassTimesAndTheSameImage) {
+  RenderSpec spec = pinholeOf("builtin:dof", "default", 96, 54);
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 2;
+  SceneOnGpu& scene = testScene(spec.scene);
+  FrameRequest request = requestFor(spec, scene.scene);
+  auto render = [&](bool timed, ImageRgba8& image) {
+    FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+    request.timePasses = timed;
+    FrameStats stats = pipeline.render(request);
+    image = pipeline.image();
+    return stats;
+  };
+  ImageRgba8 timedImage, untimedImage;
+  FrameStats timed = render(true, timedImage);
+  FrameStats untimed = render(false, untimedImage);
+  EXPECT_GT(timed.passMsOf("hybrid_trace"), 0.0);
+  EXPECT_GT(timed.gpuMs, 0.0);
+  EXPECT_TRUE(untimed.passMs.empty());
+  EXPECT_EQ(untimed.gpuMs, 0.0);
+  EXPECT_GT(untimed.wallMs, 0.0);
+  EXPECT_EQ(meanSquaredError(untimedImage, timedImage), 0.0);
+}
+
 }  // namespace
 }  // namespace hdof::test

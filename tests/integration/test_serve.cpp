@@ -190,6 +190,25 @@ TEST(Serve, AcksGateFrames) {
   EXPECT_GT(third->stats["accumulated_frames"].get<int>(), 2);
 }
 
+// The daemon times the steps of one frame in a few (timestamps cost a software device a few
+// percent of a frame); every frame's stats carry the latest timed frame's.
+TEST(Serve, EveryFrameCarriesStepTimesThoughFewAreTimed) {
+  Daemon daemon(withConfig("raytrace", R"("accumulation_frames": 1000)"));
+  auto client = connectSession(daemon.port());
+  helloAndWelcome(*client, 64, 48);
+  for (int i = 0; i < 12; ++i) {
+    std::optional<Frame> frame = nextFrame(*client);
+    ASSERT_TRUE(frame) << daemon.log();
+    ack(*client, frame->header.frame);
+    EXPECT_GT(frame->stats["passes_ms"].value("tonemap", 0.0), 0.0) << frame->stats.dump();
+    EXPECT_GT(frame->stats["gpu_ms"].get<double>(), 0.0) << frame->stats.dump();
+  }
+  double rendered = metricValue(daemon.port(), "hdof_frames_rendered_total");
+  double timed = metricValue(daemon.port(), "hdof_pass_seconds_count{pass=\"tonemap\"}");
+  EXPECT_GE(timed, 1.0);
+  EXPECT_LT(timed, rendered / 2.0) << rendered << " frames rendered";
+}
+
 TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
   Daemon daemon(
       // accumulation_frames 1: no anti-aliasing frames after the still one.
