@@ -1,8 +1,9 @@
 // Hybrid composite (stage 7): where the ray mask traced, the ray-traced layers as the spatial
 // reconstruction (stage 6) left them, joined by the accumulated hit ratio and placed by the pixel's
-// circle of confusion: in the focus zone the sharp raster colour seen past the near layer; in the
-// near field the ray-traced colour, except bright specular bokeh where the post-process wins by the
-// specular intensity; in the far field the ray-traced colour where near geometry covers the pixel
+// circle of confusion: in the focus zone the sharp raster colour seen past the near layer, handed
+// over to the traced colour as rays add up (on a still view as their count weighs against the
+// raster's samples); in the near field the ray-traced colour, except bright specular bokeh where
+// the post-process wins by the specular intensity; in the far field the ray-traced colour where near geometry covers the pixel
 // (hit ratio) and inside the traced region, fading to the post-process over the last pixels before
 // the mask's edge, so that the edge leaves no seam. One thread per pixel of the ray mask's work
 // list: the others hold the post-process's colour already (step hybrid_composite_copy).
@@ -34,6 +35,10 @@ const float kConvergedRays = 32.0;
 // the mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
 // post-process after 32 of its own: handed over by then, it made a resting view worse for a while.
 const float kTrustedRays = 48.0;
+// On a still view, an in-focus pixel's rays and the raster's jittered samples estimate the same
+// antialiased pixel: the traced colour's share is at least its rays' share of all samples, a
+// raster sample counting as this many rays (the raster lacks the lens's blur under a pixel).
+const float kRasterSampleRays = 2.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
 
@@ -66,9 +71,17 @@ void main() {
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
-    // there are enough to give it the antialiased edges of the traced image.
+    // there are enough to give it the antialiased edges of the traced image; on a still view,
+    // from the first frames as far as they outnumber the raster's samples.
     vec3 raster = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
-    color = mix(pp, mix(raster, traced, clamp(far.a / kConvergedRays, 0.0, 1.0)), trust);
+    float converged = clamp(far.a / kConvergedRays, 0.0, 1.0);
+    color = mix(pp, mix(raster, traced, converged), trust);
+    if (frame.rasterSample > 0u) {
+      float samples = float(min(frame.rasterSample + 1u, kMaxRasterSamples));
+      float counted = far.a / (far.a + kRasterSampleRays * samples);
+      float shown = converged * trust;
+      color = mix(color, traced, max(counted - shown, 0.0) / max(1.0 - shown, 1e-3));
+    }
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(pp, traced, trust * (1.0 - bokeh));
