@@ -337,14 +337,15 @@ TEST(HybridMode, AStillViewKeepsImproving) {
 // frames the hybrid is within 2.5 dB of the ray tracer given as many (33.5 against 35.3 dB; 32.3
 // while the rays counted only from 32 of them on).
 TEST(HybridMode, AStillViewsRaysCountAsSamplesFromItsFirstFrames) {
-  RenderSpec spec = wideOpen();
-  const ImageRgba8& reference = wideOpenReference();
-  spec.raysPerPixel = 4;
-  spec.frames = 4;
-  spec.mode = RenderMode::RayTrace;
-  double rayTrace = compareImages(renderImage(spec), reference).psnrDb;
-  spec.mode = RenderMode::Hybrid;
-  double hybrid = compareImages(renderImage(spec), reference).psnrDb;
+  auto psnrAfter4Frames = [](RenderMode mode) {
+    RenderSpec spec = wideOpen();
+    spec.mode = mode;
+    spec.raysPerPixel = 4;
+    spec.frames = 4;
+    return compareImages(renderImage(spec), wideOpenReference()).psnrDb;
+  };
+  double rayTrace = psnrAfter4Frames(RenderMode::RayTrace);
+  double hybrid = psnrAfter4Frames(RenderMode::Hybrid);
   std::printf("4 still frames: raytrace %.2f dB, hybrid %.2f dB\n", rayTrace, hybrid);
   EXPECT_GE(hybrid, rayTrace - 2.5);
 }
