@@ -3,10 +3,11 @@
 // circle of confusion: in the focus zone the sharp raster colour seen past the near layer, handed
 // over to the traced colour as rays add up (on a still view as their count weighs against the
 // raster's samples); in the near field the ray-traced colour, except bright specular bokeh where
-// the post-process wins by the specular intensity; in the far field the ray-traced colour where near geometry covers the pixel
-// (hit ratio) and inside the traced region, fading to the post-process over the last pixels before
-// the mask's edge, so that the edge leaves no seam. One thread per pixel of the ray mask's work
-// list: the others hold the post-process's colour already (step hybrid_composite_copy).
+// the post-process wins by the specular intensity; in the far field the ray-traced colour where
+// near geometry covers the pixel (hit ratio) and inside the traced region, fading to the
+// post-process over the last pixels before the mask's edge, so that the edge leaves no seam. One
+// thread per pixel of the ray mask's work list: the others hold the post-process's colour already
+// (step hybrid_composite_copy).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;

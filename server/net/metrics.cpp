@@ -139,7 +139,8 @@ std::string Metrics::prometheusText() const {
   header(out, "hdof_closes_total", "counter", "Sessions the daemon closed, by close code.");
   for (const auto& [code, count] : closes_)
     sample(out, "hdof_closes_total", "code=\"" + std::to_string(code) + "\"", double(count));
-  header(out, "hdof_pass_seconds", "histogram", "GPU time of each render pass, of timed frames (one in 8 of a session's).");
+  header(out, "hdof_pass_seconds", "histogram",
+         "GPU time of each render pass, of timed frames (one in 8 of a session's).");
   for (const auto& [pass, histogram] : passSeconds_)
     histogram.write(out, "hdof_pass_seconds", "pass=\"" + pass + "\"");
   header(out, "hdof_encode_seconds", "histogram", "JPEG encode time per frame.");
