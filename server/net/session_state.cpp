@@ -79,9 +79,16 @@ float SessionState::interactiveScale() {
 }
 
 void SessionState::frameRendered(double renderMs) {
-  if (!lastFrameMoving_ || lastFramePixels_ == 0) return;
+  if (lastFramePixels_ == 0) return;
   double perPixel = renderMs / double(lastFramePixels_);
-  msPerPixel_ = msPerPixel_ > 0.0 ? 0.7 * msPerPixel_ + 0.3 * perPixel : perPixel;
+  // Until a moving frame is measured, a still frame's cost stands in for it, so that the first
+  // moving frame does not render at full size; the first moving frame replaces it.
+  if (!lastFrameMoving_) {
+    if (!movingMeasured_) msPerPixel_ = perPixel;
+    return;
+  }
+  msPerPixel_ = movingMeasured_ ? 0.7 * msPerPixel_ + 0.3 * perPixel : perPixel;
+  movingMeasured_ = true;
 }
 
 Viewport SessionState::renderSize() const {

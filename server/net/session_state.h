@@ -75,7 +75,7 @@ class SessionState {
   // The server wrote this frame to the connection: acks up to it are valid now.
   void frameSent(uint32_t frame);
   // How long the frame last started took to render (submit to finish): moving frames teach the
-  // interactive resolution what a pixel costs.
+  // interactive resolution what a pixel costs (a still frame's cost serves until one has).
   void frameRendered(double renderMs);
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
   void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
@@ -131,6 +131,7 @@ class SessionState {
   bool lastFrameMoving_ = false;
   uint32_t lastFramePixels_ = 0;
   double msPerPixel_ = 0.0;  // moving frames' render time per pixel (moving average); 0: unknown
+  bool movingMeasured_ = false;  // msPerPixel_ comes from moving frames, not a still one
   float movingScale_ = 1.0f;  // the scale of the last moving frame
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started

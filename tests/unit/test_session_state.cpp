@@ -258,6 +258,30 @@ TEST(SessionState, AMovingViewRendersAtTheScaleThatHoldsTargetFps) {
   EXPECT_EQ(resting.renderScale, 1.0f);
 }
 
+// A session's first moving frame is scaled by what its still frames cost, per pixel; the first
+// moving frame's own cost then replaces that guess.
+TEST(SessionState, AStillFramesCostScalesTheFirstMovingFrame) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  FramePlan still = s.startFrame(kStart, noFocus);
+  ASSERT_FALSE(still.moving);
+  EXPECT_EQ(still.renderScale, 1.0f);
+  s.frameRendered(200.0);  // 0.01 ms a pixel: the full size would take 200 ms
+  sentAndAcked(s, 1, kStart);
+
+  s.apply(camera(2, 1.0f), kStart + 10ms);
+  FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
+  ASSERT_TRUE(moving.moving);
+  EXPECT_EQ(moving.renderScale, 0.5f) << "scaled from the first moving frame on";
+  s.frameRendered(5.0);  // 0.001 ms a pixel: the full size takes 20 ms
+  sentAndAcked(s, 2, kStart);
+
+  s.apply(camera(3, 2.0f), kStart + 20ms);
+  EXPECT_EQ(s.startFrame(kStart + 20ms, noFocus).renderScale, 1.0f)
+      << "a moving frame's cost replaces the still frame's";
+}
+
 // Frame times that hover at a step's boundary keep the moving scale where it is (each new size
 // reallocates the images and restarts the history); it steps up once the larger step fits with
 // room to spare.
