@@ -216,6 +216,8 @@ void RenderLoop::loop() {
     uint64_t id = due->first;
     Session& session = due->second;
     lastServed_ = id;
+    if (auto cost = movingMsPerPixel_.find(session.state.mode()); cost != movingMsPerPixel_.end())
+      session.state.seedCost(cost->second);  // until the session has measured its own
     FramePlan plan = session.state.startFrame(now, pickFocus);
     uint64_t coalesced = session.state.inputsCoalesced();
     metrics_.inputsCoalesced(coalesced - session.coalescedReported);
@@ -223,7 +225,11 @@ void RenderLoop::loop() {
     lock.unlock();
     std::optional<double> renderMs = render(id, session, plan);
     lock.lock();  // the entry stays: only this thread erases entries
-    if (renderMs && !session.removed) session.state.frameRendered(*renderMs);
+    if (!renderMs || session.removed) continue;
+    session.state.frameRendered(*renderMs);
+    const FrameSettings& size = plan.request.settings;
+    if (plan.moving)
+      movingMsPerPixel_[plan.request.mode] = *renderMs / (double(size.width) * size.height);
   }
 }
 

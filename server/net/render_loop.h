@@ -108,6 +108,9 @@ class RenderLoop {
   const gpu::Context& context_;
   const Scene& scene_;
   const GpuScene& gpuScene_;
+  // The latest moving frame's render time per pixel, by mode (any session): a new session's
+  // first moving frame is scaled by it (SessionState::seedCost).
+  std::map<RenderMode, double> movingMsPerPixel_;
   const Bvh& bvh_;
   Metrics& metrics_;
   const double stallS_;

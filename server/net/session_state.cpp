@@ -59,10 +59,15 @@ uint32_t SessionState::framesOfAStillView() const {
 }
 
 float SessionState::interactiveScale() {
-  if (defaults_.targetFps <= 0.0 || msPerPixel_ <= 0.0) return 1.0f;
+  // What a pixel of a moving frame costs: this session's moving frames, else another session's
+  // in this mode, else this session's still frames.
+  double msPerPixel = movingMsPerPixel_ > 0.0   ? movingMsPerPixel_
+                      : seededMsPerPixel_ > 0.0 ? seededMsPerPixel_
+                                                : stillMsPerPixel_;
+  if (defaults_.targetFps <= 0.0 || msPerPixel <= 0.0) return 1.0f;
   Viewport full = renderSize();
   double budgetMs = 1000.0 / defaults_.targetFps;
-  double fullMs = msPerPixel_ * double(full.width) * double(full.height);
+  double fullMs = msPerPixel * double(full.width) * double(full.height);
   // The largest step whose predicted time fits `ms`; render time goes with the pixels: the
   // square of the scale.
   auto fitting = [&](double ms) {
@@ -81,15 +86,14 @@ float SessionState::interactiveScale() {
 void SessionState::frameRendered(double renderMs) {
   if (lastFramePixels_ == 0) return;
   double perPixel = renderMs / double(lastFramePixels_);
-  // Until a moving frame is measured, a still frame's cost stands in for it, so that the first
-  // moving frame does not render at full size; the first moving frame replaces it.
-  if (!lastFrameMoving_) {
-    if (!movingMeasured_) msPerPixel_ = perPixel;
-    return;
-  }
-  msPerPixel_ = movingMeasured_ ? 0.7 * msPerPixel_ + 0.3 * perPixel : perPixel;
-  movingMeasured_ = true;
+  if (!lastFrameMoving_)
+    stillMsPerPixel_ = perPixel;
+  else
+    movingMsPerPixel_ =
+        movingMsPerPixel_ > 0.0 ? 0.7 * movingMsPerPixel_ + 0.3 * perPixel : perPixel;
 }
+
+void SessionState::seedCost(double msPerPixel) { seededMsPerPixel_ = msPerPixel; }
 
 Viewport SessionState::renderSize() const {
   Viewport size = scaledSize(viewport_, stream_.resolutionScale);

@@ -75,8 +75,10 @@ class SessionState {
   // The server wrote this frame to the connection: acks up to it are valid now.
   void frameSent(uint32_t frame);
   // How long the frame last started took to render (submit to finish): moving frames teach the
-  // interactive resolution what a pixel costs (a still frame's cost serves until one has).
+  // interactive resolution what a pixel costs (until one has, another session's moving frames in
+  // this mode, from seedCost, else this session's still frames).
   void frameRendered(double renderMs);
+  void seedCost(double msPerPixel);
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
   void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
   bool sendBlocked() const { return sendBlocked_; }
@@ -86,6 +88,7 @@ class SessionState {
   // A resting view's size: the viewport's times resolution_scale.
   Viewport renderSize() const;
   const Lens& lens() const { return lens_; }
+  RenderMode mode() const { return mode_; }
   // The newest camera received (what a pick looks through) and the session's viewport.
   const Camera& camera() const { return camera_; }
   Viewport viewport() const { return viewport_; }
@@ -130,8 +133,9 @@ class SessionState {
   Clock::time_point lastFrameStart_{};
   bool lastFrameMoving_ = false;
   uint32_t lastFramePixels_ = 0;
-  double msPerPixel_ = 0.0;  // moving frames' render time per pixel (moving average); 0: unknown
-  bool movingMeasured_ = false;  // msPerPixel_ comes from moving frames, not a still one
+  // Render time per pixel (0: unknown) of this session's moving frames (a moving average), of
+  // another session's in this mode (seedCost), of this session's latest still frame.
+  double movingMsPerPixel_ = 0.0, seededMsPerPixel_ = 0.0, stillMsPerPixel_ = 0.0;
   float movingScale_ = 1.0f;  // the scale of the last moving frame
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started

@@ -282,6 +282,29 @@ TEST(SessionState, AStillFramesCostScalesTheFirstMovingFrame) {
       << "a moving frame's cost replaces the still frame's";
 }
 
+// Another session's moving frames in the mode (seedCost) tell a new session what its first moving
+// frame costs, better than the session's own still frames; its own moving frames then decide.
+TEST(SessionState, AnotherSessionsMovingCostScalesTheFirstMovingFrame) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  s.startFrame(kStart, noFocus);
+  s.frameRendered(20.0);  // a still frame at 0.001 ms a pixel: the full size would fit
+  sentAndAcked(s, 1, kStart);
+  s.seedCost(0.01);  // moving frames elsewhere: 200 ms at this size
+
+  s.apply(camera(2, 1.0f), kStart + 10ms);
+  FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
+  EXPECT_EQ(moving.renderScale, 0.5f) << "the other session's moving frames decide";
+  s.frameRendered(5.0);  // 0.001 ms a pixel
+  sentAndAcked(s, 2, kStart);
+
+  s.seedCost(0.02);
+  s.apply(camera(3, 2.0f), kStart + 20ms);
+  EXPECT_EQ(s.startFrame(kStart + 20ms, noFocus).renderScale, 1.0f)
+      << "the session's own moving frames decide once it has one";
+}
+
 // Frame times that hover at a step's boundary keep the moving scale where it is (each new size
 // reallocates the images and restarts the history); it steps up once the larger step fits with
 // room to spare.
