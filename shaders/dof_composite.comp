@@ -35,7 +35,7 @@ void loadWindow(ivec2 first, bool wide) {
     ivec2 inWindow = ivec2(j % kWindow, j / kWindow);
     if (!wide && any(greaterThan(abs(2 * inWindow - (kWindow - 1)), ivec2(3)))) continue;
     ivec2 source = clamp(first + inWindow - kSmallBlurReach, ivec2(0), last);
-    vec4 texel = texelFetch(colorCoc, source, 0);
+    vec4 texel = imageLoad(colorCoc, source);
     windowColor[j] = texel.rgb;
     windowCoc[j] = texel.a;
     windowReach[j] = 0.5 * abs(windowCoc[j]);

@@ -17,13 +17,14 @@ layout(local_size_x = 64) in;
 #include "shared/ray_work.h"
 
 HDOF_RAY_WORK_LIST(9, readonly);
-layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui
-layout(set = 1, binding = 2) uniform sampler2D sharp;  // rgba16f: the G-buffer's colour
-layout(set = 1, binding = 3) uniform sampler2D specular;  // rgba16f: its specular part
-layout(set = 1, binding = 4) uniform sampler2D normalDepth;  // rgba32f
-layout(set = 1, binding = 5) uniform sampler2D postProcess;  // rgba16f
-layout(set = 1, binding = 6) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 7) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
+layout(set = 1, binding = 1, r8ui) uniform readonly uimage2D rays;
+layout(set = 1, binding = 2, rgba16f) uniform readonly image2D sharp;  // the G-buffer's colour
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D specular;  // its specular part
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D normalDepth;
+layout(set = 1, binding = 5, rgba16f) uniform readonly image2D postProcess;
+// Near: colour x ratio, ratio; far: colour x (1 - ratio), rays.
+layout(set = 1, binding = 6, rgba16f) uniform readonly image2D historyNear;
+layout(set = 1, binding = 7, rgba16f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
@@ -51,7 +52,7 @@ float tracedShare(ivec2 pixel) {
     float angle = float(i) * (kPi / 4.0);
     ivec2 q = pixel + ivec2(round(kSeamFade * vec2(cos(angle), sin(angle))));
     q = clamp(q, ivec2(0), ivec2(frame.imageSize) - 1);
-    count += texelFetch(rays, q, 0).r > 0u ? 1.0 : 0.0;
+    count += imageLoad(rays, q).r > 0u ? 1.0 : 0.0;
   }
   return count / 8.0;
 }
@@ -59,12 +60,12 @@ float tracedShare(ivec2 pixel) {
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
-  vec3 pp = texelFetch(postProcess, pixel, 0).rgb;
-  vec4 near = texelFetch(historyNear, pixel, 0);
+  vec3 pp = imageLoad(postProcess, pixel).rgb;
+  vec4 near = imageLoad(historyNear, pixel);
   float ratio = clamp(near.a, 0.0, 1.0);
-  vec4 far = texelFetch(historyFar, pixel, 0);
+  vec4 far = imageLoad(historyFar, pixel);
   vec3 traced = near.rgb + far.rgb;
-  float depth = texelFetch(normalDepth, pixel, 0).w;
+  float depth = imageLoad(normalDepth, pixel).w;
   float coc = pixelCoc(depth);
   // A pixel whose history is short (the first frames of a view, or in motion) is noisy: the
   // post-process shares it, in every zone.
@@ -74,7 +75,7 @@ void main() {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
     // there are enough to give it the antialiased edges of the traced image; on a still view,
     // from the first frames as far as they outnumber the raster's samples.
-    vec3 raster = texelFetch(sharp, pixel, 0).rgb * (1.0 - ratio) + near.rgb;
+    vec3 raster = imageLoad(sharp, pixel).rgb * (1.0 - ratio) + near.rgb;
     float converged = clamp(far.a / kConvergedRays, 0.0, 1.0);
     color = mix(pp, mix(raster, traced, converged), trust);
     if (frame.rasterSample > 0u) {
@@ -84,7 +85,7 @@ void main() {
       color = mix(color, traced, max(counted - shown, 0.0) / max(1.0 - shown, 1e-3));
     }
   } else if (coc < 0.0) {
-    float bokeh = clamp(luminance(texelFetch(specular, pixel, 0).rgb) / kBokehSpecular, 0.0, 1.0);
+    float bokeh = clamp(luminance(imageLoad(specular, pixel).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(pp, traced, trust * (1.0 - bokeh));
   } else {
     float inside = smoothstep(0.5, 1.0, tracedShare(pixel));

@@ -18,12 +18,13 @@ layout(local_size_x = 64) in;
 #include "shared/ray_work.h"
 
 HDOF_RAY_WORK_LIST(1, readonly);
-layout(set = 1, binding = 2) uniform usampler2D rays;  // r8ui: rays traced this frame
-layout(set = 1, binding = 3) uniform sampler2D layerCoc;  // rg16f: near |CoC|, far CoC
-layout(set = 1, binding = 4) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 5) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
-layout(set = 1, binding = 6) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
-layout(set = 1, binding = 7) uniform sampler2D variance;  // r16f: variance of one ray
+layout(set = 1, binding = 2, r8ui) uniform readonly uimage2D rays;  // rays traced this frame
+layout(set = 1, binding = 3, rg16f) uniform readonly image2D layerCoc;  // near |CoC|, far CoC
+// Near: colour x ratio, ratio; far: colour x (1 - ratio), rays; moments: m1, m2, rays, depth.
+layout(set = 1, binding = 4, rgba16f) uniform readonly image2D historyNear;
+layout(set = 1, binding = 5, rgba16f) uniform readonly image2D historyFar;
+layout(set = 1, binding = 6, rgba32f) uniform readonly image2D historyMoments;
+layout(set = 1, binding = 7, r16f) uniform readonly image2D variance;  // variance of one ray
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
 
@@ -35,18 +36,18 @@ const float kLuminanceSigmas = 2.0;
 
 // The diameter of the pixel's blur: its layers' CoCs weighted by its hit ratio.
 float blendedCoc(ivec2 pixel, float ratio) {
-  vec2 coc = texelFetch(layerCoc, pixel, 0).xy;
+  vec2 coc = imageLoad(layerCoc, pixel).xy;
   return mix(abs(coc.y), coc.x, ratio);
 }
 
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
-  vec4 near = texelFetch(historyNear, pixel, 0);
-  vec4 far = texelFetch(historyFar, pixel, 0);
+  vec4 near = imageLoad(historyNear, pixel);
+  vec4 far = imageLoad(historyFar, pixel);
   float lum = luminance(near.rgb + far.rgb);
-  float samples = max(texelFetch(historyMoments, pixel, 0).z, 1.0);
-  float noise = sqrt(clamp(texelFetch(variance, pixel, 0).r, kVarianceMin, kVarianceMax) / samples);
+  float samples = max(imageLoad(historyMoments, pixel).z, 1.0);
+  float noise = sqrt(clamp(imageLoad(variance, pixel).r, kVarianceMin, kVarianceMax) / samples);
   float radius = min(kRadiusOfCoc * blendedCoc(pixel, near.a), kMaxRadius);
 
   vec4 nearSum = near, farSum = far;
@@ -62,10 +63,10 @@ void main() {
     float angle = 2.0 * kPi * (float(i) * 0.618034 + turn);
     ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-    if (texelFetch(rays, q, 0).r == 0u) continue;
-    vec4 qNear = texelFetch(historyNear, q, 0);
+    if (imageLoad(rays, q).r == 0u) continue;
+    vec4 qNear = imageLoad(historyNear, q);
     if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
-    vec4 qFar = texelFetch(historyFar, q, 0);
+    vec4 qFar = imageLoad(historyFar, q);
     float w = exp(-abs(luminance(qNear.rgb + qFar.rgb) - lum) / (kLuminanceSigmas * noise));
     nearSum += w * qNear;
     farSum += w * qFar;

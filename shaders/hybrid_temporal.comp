@@ -15,18 +15,19 @@ layout(local_size_x = 64) in;
 #include "lib/frame.glsl"
 #include "shared/ray_work.h"
 
-layout(set = 1, binding = 1) uniform usampler2D rays;  // r8ui: rays traced this frame
-layout(set = 1, binding = 2) uniform sampler2D nearLayer;  // rgba16f: colour, hit ratio
-layout(set = 1, binding = 3) uniform sampler2D farLayer;  // rgba16f: colour, 1 - hit ratio
-layout(set = 1, binding = 4) uniform sampler2D farPosition;  // rgba32f: xyz, w far weight
-layout(set = 1, binding = 5) uniform sampler2D motion;  // rg16f, pixels
-layout(set = 1, binding = 6) uniform sampler2D normalDepth;  // rgba32f, w linear depth
+layout(set = 1, binding = 1, r8ui) uniform readonly uimage2D rays;  // rays traced this frame
+layout(set = 1, binding = 2, rgba16f) uniform readonly image2D nearLayer;  // colour, hit ratio
+layout(set = 1, binding = 3, rgba16f) uniform readonly image2D farLayer;  // colour, 1 - hit ratio
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D farPosition;  // xyz, w far weight
+layout(set = 1, binding = 5, rg16f) uniform readonly image2D motion;  // pixels
+layout(set = 1, binding = 6, rgba32f) uniform readonly image2D normalDepth;  // w linear depth
 // History: the layers' colours premultiplied by their share of the rays (near by the hit ratio,
 // far by one minus it), so that frames in which a layer got no rays count as its absence, not
 // as black, and near + far is the pixel's colour; the near alpha is the accumulated hit ratio.
-layout(set = 1, binding = 7) uniform sampler2D historyNear;  // rgba16f: colour x ratio, ratio
-layout(set = 1, binding = 8) uniform sampler2D historyFar;  // rgba16f: colour x (1 - ratio), rays
-layout(set = 1, binding = 9) uniform sampler2D historyMoments;  // rgba32f: m1, m2, rays, depth
+// Near: colour x ratio, ratio; far: colour x (1 - ratio), rays; moments: m1, m2, rays, depth.
+layout(set = 1, binding = 7, rgba16f) uniform readonly image2D historyNear;
+layout(set = 1, binding = 8, rgba16f) uniform readonly image2D historyFar;
+layout(set = 1, binding = 9, rgba32f) uniform readonly image2D historyMoments;
 HDOF_RAY_WORK_LIST(10, readonly);
 layout(set = 1, binding = 11) uniform writeonly image2D outNear;
 layout(set = 1, binding = 12) uniform writeonly image2D outFar;
@@ -57,14 +58,14 @@ bool insideImage(vec2 p) { return all(greaterThanEqual(p, vec2(0.0))) && all(les
 // The far world position this pixel sees through the near layer: its own, else the weighted
 // average of its 3x3 neighbours' (valid when w > 0).
 vec4 farWorldPosition(ivec2 pixel) {
-  vec4 own = texelFetch(farPosition, pixel, 0);
+  vec4 own = imageLoad(farPosition, pixel);
   if (own.w > 0.0) return vec4(own.xyz, 1.0);
   vec4 sum = vec4(0.0);
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.imageSize) - 1);
-      vec4 p = texelFetch(farPosition, q, 0);
-      if (texelFetch(rays, q, 0).r > 0u && p.w > 0.0) sum += vec4(p.xyz * p.w, p.w);
+      vec4 p = imageLoad(farPosition, q);
+      if (imageLoad(rays, q).r > 0u && p.w > 0.0) sum += vec4(p.xyz * p.w, p.w);
     }
   return sum.w > 0.0 ? vec4(sum.xyz / sum.w, 1.0) : vec4(0.0);
 }
@@ -80,10 +81,10 @@ NeighbourRange neighbourRange(ivec2 pixel) {
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), ivec2(frame.imageSize) - 1);
-      if (texelFetch(rays, q, 0).r == 0u) continue;
-      vec4 n = texelFetch(nearLayer, q, 0);
+      if (imageLoad(rays, q).r == 0u) continue;
+      vec4 n = imageLoad(nearLayer, q);
       vec4 nearNow = vec4(n.rgb * n.a, n.a);
-      vec3 farNow = texelFetch(farLayer, q, 0).rgb * (1.0 - n.a);
+      vec3 farNow = imageLoad(farLayer, q).rgb * (1.0 - n.a);
       range.nearMin = min(range.nearMin, nearNow);
       range.nearMax = max(range.nearMax, nearNow);
       range.farMin = min(range.farMin, farNow);
@@ -108,18 +109,18 @@ void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
   ivec2 pixel = ivec2(unpackRayWorkPixel(entry.x));
-  float depth = texelFetch(normalDepth, pixel, 0).w;
-  vec4 near = texelFetch(nearLayer, pixel, 0);
-  vec4 far = texelFetch(farLayer, pixel, 0);
+  float depth = imageLoad(normalDepth, pixel).w;
+  vec4 near = imageLoad(nearLayer, pixel);
+  vec4 far = imageLoad(farLayer, pixel);
   vec2 center = vec2(pixel) + 0.5;
 
   // The pixel's statistics: where the surface under it was, if it was that surface.
-  vec2 pixelMotion = texelFetch(motion, pixel, 0).xy;
+  vec2 pixelMotion = imageLoad(motion, pixel).xy;
   vec2 previousPixel = center + pixelMotion;
   vec4 moments = vec4(0.0);
   bool pixelValid = push.reset == 0u && insideImage(previousPixel);
   if (pixelValid) {
-    moments = texelFetch(historyMoments, ivec2(previousPixel), 0);
+    moments = imageLoad(historyMoments, ivec2(previousPixel));
     pixelValid = moments.z > 0.0 && abs(moments.w - depth) <= kDisocclusion * depth;
   }
   // The moving average counts rays, not frames (the mask gives a pixel more or fewer rays from
@@ -138,14 +139,14 @@ void main() {
   vec4 nearNow = vec4(near.rgb * near.a, near.a);
   vec3 farNow = far.rgb * (1.0 - near.a);
   // Near layer: with the surface under the pixel.
-  vec4 nearHistory = pixelValid ? texelFetch(historyNear, ivec2(previousPixel), 0) : nearNow;
+  vec4 nearHistory = pixelValid ? imageLoad(historyNear, ivec2(previousPixel)) : nearNow;
 
   // Far layer: where the background seen through this pixel was.
   vec4 world = farWorldPosition(pixel);
   vec2 previousFar = world.w > 0.0 ? center + screenMotion(world.xyz) : previousPixel;
   bool farValid = push.reset == 0u && insideImage(previousFar) &&
-                  texelFetch(historyMoments, ivec2(previousFar), 0).z > 0.0;
-  vec3 farHistory = farValid ? texelFetch(historyFar, ivec2(previousFar), 0).rgb : farNow;
+                  imageLoad(historyMoments, ivec2(previousFar)).z > 0.0;
+  vec3 farHistory = farValid ? imageLoad(historyFar, ivec2(previousFar)).rgb : farNow;
   // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
   // moved over or off it): clamped into their range, as TAA does.
   if (changed) {

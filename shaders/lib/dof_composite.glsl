@@ -11,7 +11,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 1, binding = 1) uniform sampler2D colorCoc;  // rgba16f: sharp colour, CoC
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D colorCoc;  // sharp colour, CoC
 layout(set = 1, binding = 3, rgba16f) uniform readonly image2D farLayer;  // a: CoC
 layout(set = 1, binding = 4, rgba16f) uniform readonly image2D nearLayer;  // premultiplied
 layout(set = 1, binding = 5, rg16f) uniform readonly image2D dilatedTiles;
@@ -48,7 +48,7 @@ CompositeQuad loadQuad(ivec2 quad) {
   q.anyBlur = false;
   [[unroll]] for (int i = 0; i < 4; ++i) {
     ivec2 pixel = min(q.first + ivec2(i & 1, i >> 1), size - 1);
-    vec4 texel = texelFetch(colorCoc, pixel, 0);
+    vec4 texel = imageLoad(colorCoc, pixel);
     q.sharp[i] = texel.rgb;
     q.coc[i] = texel.a;
     q.blur[i] = halfResAmount(q.coc[i]);
