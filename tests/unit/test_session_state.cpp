@@ -258,51 +258,35 @@ TEST(SessionState, AMovingViewRendersAtTheScaleThatHoldsTargetFps) {
   EXPECT_EQ(resting.renderScale, 1.0f);
 }
 
-// A session's first moving frame is scaled by what its still frames cost, per pixel; the first
-// moving frame's own cost then replaces that guess.
-TEST(SessionState, AStillFramesCostScalesTheFirstMovingFrame) {
+// A session's first moving frame is scaled too: by what another session's moving frames in its
+// mode cost per pixel (seedCost), else by its own still frame's cost; once it has rendered a
+// moving frame, its own moving frames decide.
+TEST(SessionState, TheFirstMovingFrameIsScaledByTheBestCostKnown) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
-  d.targetFps = 20.0;  // 50 ms a frame
-  SessionState s(d, {200, 100});
-  FramePlan still = s.startFrame(kStart, noFocus);
-  ASSERT_FALSE(still.moving);
-  EXPECT_EQ(still.renderScale, 1.0f);
-  s.frameRendered(200.0);  // 0.01 ms a pixel: the full size would take 200 ms
-  sentAndAcked(s, 1, kStart);
-
-  s.apply(camera(2, 1.0f), kStart + 10ms);
-  FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
-  ASSERT_TRUE(moving.moving);
-  EXPECT_EQ(moving.renderScale, 0.5f) << "scaled from the first moving frame on";
-  s.frameRendered(5.0);  // 0.001 ms a pixel: the full size takes 20 ms
-  sentAndAcked(s, 2, kStart);
-
-  s.apply(camera(3, 2.0f), kStart + 20ms);
-  EXPECT_EQ(s.startFrame(kStart + 20ms, noFocus).renderScale, 1.0f)
-      << "a moving frame's cost replaces the still frame's";
-}
-
-// Another session's moving frames in the mode (seedCost) tell a new session what its first moving
-// frame costs, better than the session's own still frames; its own moving frames then decide.
-TEST(SessionState, AnotherSessionsMovingCostScalesTheFirstMovingFrame) {
-  SessionDefaults d = defaults(RenderMode::PostProcess);
-  d.targetFps = 20.0;  // 50 ms a frame
-  SessionState s(d, {200, 100});
-  s.startFrame(kStart, noFocus);
-  s.frameRendered(20.0);  // a still frame at 0.001 ms a pixel: the full size would fit
-  sentAndAcked(s, 1, kStart);
-  s.seedCost(0.01);  // moving frames elsewhere: 200 ms at this size
-
-  s.apply(camera(2, 1.0f), kStart + 10ms);
-  FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
-  EXPECT_EQ(moving.renderScale, 0.5f) << "the other session's moving frames decide";
-  s.frameRendered(5.0);  // 0.001 ms a pixel
-  sentAndAcked(s, 2, kStart);
-
-  s.seedCost(0.02);
-  s.apply(camera(3, 2.0f), kStart + 20ms);
-  EXPECT_EQ(s.startFrame(kStart + 20ms, noFocus).renderScale, 1.0f)
-      << "the session's own moving frames decide once it has one";
+  d.targetFps = 20.0;  // 50 ms a frame; at 200x100, 0.01 ms a pixel takes 200 ms
+  struct Case {
+    double stillMsPerPixel;
+    std::optional<double> seededMsPerPixel;
+    float firstMovingScale;
+  };
+  for (Case c : {Case{0.01, std::nullopt, 0.5f}, Case{0.001, std::nullopt, 1.0f},
+                 Case{0.001, 0.01, 0.5f}}) {
+    SessionState s(d, {200, 100});
+    ASSERT_FALSE(s.startFrame(kStart, noFocus).moving);
+    s.frameRendered(c.stillMsPerPixel * 200 * 100);
+    sentAndAcked(s, 1, kStart);
+    if (c.seededMsPerPixel) s.seedCost(*c.seededMsPerPixel);
+    s.apply(camera(2, 1.0f), kStart + 10ms);
+    FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
+    ASSERT_TRUE(moving.moving);
+    EXPECT_EQ(moving.renderScale, c.firstMovingScale) << c.stillMsPerPixel;
+    s.frameRendered(0.001 * moving.request.settings.width * moving.request.settings.height);
+    sentAndAcked(s, 2, kStart);
+    s.seedCost(0.02);
+    s.apply(camera(3, 2.0f), kStart + 20ms);
+    EXPECT_EQ(s.startFrame(kStart + 20ms, noFocus).renderScale, 1.0f)
+        << "its own moving frames decide once it has one";
+  }
 }
 
 // Frame times that hover at a step's boundary keep the moving scale where it is (each new size
