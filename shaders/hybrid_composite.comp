@@ -33,10 +33,6 @@ const float kFarBlendRatio = 0.1;
 const float kSeamFade = 1.0;
 // Rays accumulated at which the focus zone shows the traced colour rather than the raster's.
 const float kConvergedRays = 32.0;
-// Rays accumulated from which the near and far fields show the traced colour alone. A pixel that
-// the mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
-// post-process after 32 of its own: handed over by then, it made a resting view worse for a while.
-const float kTrustedRays = 48.0;
 // On a still view, an in-focus pixel's rays and the raster's jittered samples estimate the same
 // antialiased pixel: the traced colour's share is at least its rays' share of all samples, a
 // raster sample counting as this many rays (the raster lacks the lens's blur under a pixel).
@@ -68,8 +64,11 @@ void main() {
   float depth = imageLoad(normalDepth, pixel).w;
   float coc = pixelCoc(depth);
   // A pixel whose history is short (the first frames of a view, or in motion) is noisy: the
-  // post-process shares it, in every zone.
-  float trust = clamp(far.a / kTrustedRays, 0.0, 1.0);
+  // post-process shares it, in every zone, up to kHybridTrustedRays (48) rays. A pixel that the
+  // mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
+  // post-process after 32 of its own: handed over by then, it made a resting view worse for a
+  // while.
+  float trust = clamp(far.a / kHybridTrustedRays, 0.0, 1.0);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced

@@ -24,7 +24,7 @@ layout(set = 1, binding = 3, rg16f) uniform readonly image2D layerCoc;  // near 
 layout(set = 1, binding = 4, rgba16f) uniform readonly image2D historyNear;
 layout(set = 1, binding = 5, rgba16f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 6, rgba32f) uniform readonly image2D historyMoments;
-layout(set = 1, binding = 7, r16f) uniform readonly image2D variance;  // variance of one ray
+layout(set = 1, binding = 7, rg16f) uniform readonly image2D variance;  // of one ray, rays
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
 

@@ -32,8 +32,8 @@ HDOF_RAY_WORK_LIST(10, readonly);
 layout(set = 1, binding = 11) uniform writeonly image2D outNear;
 layout(set = 1, binding = 12) uniform writeonly image2D outFar;
 layout(set = 1, binding = 13) uniform writeonly image2D outMoments;
-// r16f: the variance of one ray's luminance (the frame's variance times its rays), so that it
-// does not change with the rays the mask gives the pixel.
+// rg16f: the variance of one ray's luminance (the frame's variance times its rays, so that it
+// does not change with the rays the mask gives the pixel), and the rays accumulated.
 layout(set = 1, binding = 14) uniform writeonly image2D outVariance;
 
 // Whether this pipeline serves frames in which the camera or the lens changed (history clamped to
@@ -169,5 +169,5 @@ void main() {
   imageStore(outNear, pixel, outNearValue);
   imageStore(outFar, pixel, vec4(outFarColor, accumulated));
   imageStore(outMoments, pixel, vec4(m, accumulated, depth));
-  imageStore(outVariance, pixel, vec4(variance));
+  imageStore(outVariance, pixel, vec4(variance, accumulated, 0.0, 0.0));
 }

@@ -8,7 +8,7 @@
 // neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc,
 // in motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera
 // and lens have rested kMaxRasterSamples frames, a settled pixel's rays follow its variance alone,
-// so that a resting view keeps converging as fast.
+// so that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,7 +19,8 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D spread;
 layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
-// Any float format; a 1x1 zero image when there is no variance yet.
+// Any float format: the variance of one ray and the rays accumulated (hybrid_temporal.comp); a
+// 1x1 zero image when there is no variance yet.
 layout(set = 1, binding = 3) uniform sampler2D variance;
 layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
 
@@ -43,7 +44,8 @@ void main() {
       sharpest = min(sharpest, row.z);
     }
   }
-  float noise = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).r;
+  vec2 history = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).rg;
+  float noise = history.x;
   // New to the mask (no variance yet, or too little history for one): as the edge asks; then
   // as the variance of the pixel's rays asks.
   bool settled = noise > 0.0 && noise < kRayMaskVarianceNew;
@@ -56,6 +58,12 @@ void main() {
                       : 1.0;
   if (nearEdge || noise >= kRayMaskVarianceOn)
     count = clamp(uint(ceil(need * density * float(samples))), 1u, samples);
-  if (push.everywhere != 0u) count = samples;
+  // Once camera and lens have rested kMaxRasterSamples frames, the raster has all its samples and
+  // the G-buffer no longer runs: a frame's time goes to rays, and a pixel of the mask that the
+  // composite already shows as traced alone (kHybridTrustedRays) gets the full rays. Before that,
+  // more rays would only hand a pixel that the variance gave few over to its traced colour
+  // sooner, while it is still noisier than the post-process.
+  bool trusted = history.y >= kHybridTrustedRays;
+  if (push.everywhere != 0u || resting && trusted && count > 0u) count = samples;
   imageStore(rays, pixel, uvec4(count));
 }

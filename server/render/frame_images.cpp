@@ -96,7 +96,7 @@ HybridImages::HybridImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h)
               History{batch.make(w, h, kColor, "history near 1"),
                       batch.make(w, h, kColor, "history far 1"),
                       batch.make(w, h, kPrecise, "history moments 1")}},
-      variance(batch.make(w, h, kScalar, "hybrid variance")),
+      variance(batch.make(w, h, kPair, "hybrid variance")),
       reconstructedNear(batch.make(w, h, kColor, "hybrid reconstructed near")),
       reconstructedFar(batch.make(w, h, kColor, "hybrid reconstructed far")),
       output(batch.make(w, h, kColor, "hybrid output")) {}

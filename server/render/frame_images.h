@@ -73,7 +73,8 @@ struct HybridImages {
     gpu::Image moments;    // rgba32f: luminance mean, mean square, rays accumulated, depth
   };
   std::array<History, 2> history;
-  // r16f: luminance variance of one ray (0 where the mask did not trace), for the next mask.
+  // rg16f: luminance variance of one ray and the rays accumulated (0 where the mask did not
+  // trace), for the next mask.
   gpu::Image variance;
   // The spatial reconstruction's, as History's near and far layers.
   gpu::Image reconstructedNear, reconstructedFar;

@@ -18,7 +18,7 @@ RayMask::RayMask(const gpu::Context& context)
       compact_(context, "ray_mask_compact.comp"),
       indirect_(context, "ray_mask_indirect.comp"),
       noVarianceBatch_(context),
-      noVariance_(noVarianceBatch_.make(1, 1, VK_FORMAT_R16_SFLOAT, "ray mask no variance")) {
+      noVariance_(noVarianceBatch_.make(1, 1, VK_FORMAT_R16G16_SFLOAT, "ray mask no variance")) {
   noVarianceBatch_.finish();
 }
 

@@ -49,6 +49,9 @@ HDOF_CONST float kRayMaskVarianceOn = 0.001;
 HDOF_CONST float kRayMaskVarianceFull = 0.005;
 // What the variance reports for a pixel with too little history to estimate it (full rays).
 HDOF_CONST float kRayMaskVarianceNew = 1.0;
+// Rays a pixel has accumulated from which the hybrid composite shows its traced colour alone
+// (hybrid_composite.comp); on a resting view, the ray mask gives such pixels the full rays.
+HDOF_CONST float kHybridTrustedRays = 48.0;
 
 HDOF_NAMESPACE_END
 

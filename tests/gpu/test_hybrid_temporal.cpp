@@ -63,13 +63,17 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   int settled = 0, counted = 0;
   std::vector<float> variances;
   {
-    gpu::Buffer buffer(testContext(), kWidth * kHeight * 2, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+    // rg16f: the variance of one ray, the rays accumulated.
+    gpu::Buffer buffer(testContext(), kWidth * kHeight * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        gpu::MemoryUse::Readback, "variance");
     testContext().submitAndWait(
         [&](VkCommandBuffer cmd) { gpu::copyImageToBuffer(cmd, rig.variance(), buffer); });
-    const auto* halves = static_cast<const uint16_t*>(buffer.mapped());
-    for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i)
-      variances.push_back(glm::unpackHalf2x16(halves[i]).x);
+    const auto* pairs = static_cast<const uint32_t*>(buffer.mapped());
+    for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i) {
+      glm::vec2 pair = glm::unpackHalf2x16(pairs[i]);
+      variances.push_back(pair.x);
+      if (moments[i].z > 0.0f) EXPECT_EQ(pair.y, moments[i].z) << "the rays accumulated";
+    }
   }
   for (size_t i = 0; i < moments.size(); ++i) {
     if (moments[i].z < 12.0f) continue;  // pixels the mask kept (at least a ray a frame)

@@ -50,8 +50,10 @@ class RayMaskRig {
     std::vector<std::pair<std::string, double>> passMs;
   };
 
-  // lens.focusDistance 0: the scene camera's suggestion. rasterSample > 0: a resting view's.
-  Frame render(Lens lens, const gpu::Image* variance = nullptr, uint32_t rasterSample = 0) {
+  // lens.focusDistance 0: the scene camera's suggestion. rasterSample > 0: a resting view's;
+  // stillFrames: how long camera and lens have rested.
+  Frame render(Lens lens, const gpu::Image* variance = nullptr, uint32_t rasterSample = 0,
+               uint32_t stillFrames = 0) {
     if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
     FrameSettings settings;
     settings.width = width();
@@ -60,6 +62,7 @@ class RayMaskRig {
     settings.samplesPerPixel = kSamplesPerPixel;
     gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
     uniforms.rasterSample = rasterSample;
+    uniforms.stillFrames = stillFrames;
     std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
@@ -151,23 +154,35 @@ TEST(RayMask, InFocusWallNeedsNoRays) {
   expectListMatchesMask(frame, rig.width());
 }
 
-TEST(RayMask, NoisyPixelsGetRaysByTheirVariance) {
+// Pixels get rays by the variance of their rays. Once camera and lens have rested as many frames
+// as the raster takes samples (no G-buffer work any more), a pixel whose traced colour the
+// composite already shows alone gets the full rays; one with fewer rays keeps its variance's.
+TEST(RayMask, NoisyPixelsGetRaysByTheirVarianceAndTrustedOnesAllAtRest) {
   constexpr uint32_t kW = 64, kH = 48;
   RayMaskRig rig("builtin:wall", kW, kH);
-  // Halfway between the variance that turns rays on and the one that asks for all of them.
-  float level = 0.5f * gpu::kRayMaskVarianceFull;
   gpu::ImageBatch batch(testContext());
-  gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32_SFLOAT, "test variance");
+  gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32G32_SFLOAT, "test variance");
   batch.finish();
-  testContext().submitAndWait([&](VkCommandBuffer cmd) {
-    VkClearColorValue value{{level, 0.0f, 0.0f, 0.0f}};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdClearColorImage(cmd, variance.get(), VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
-  });
-  RayMaskRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 3.0f}, &variance);
+  // Halfway between the variance that turns rays on and the one that asks for all of them.
+  auto setVariance = [&](float raysAccumulated) {
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      VkClearColorValue value{{0.5f * gpu::kRayMaskVarianceFull, raysAccumulated, 0.0f, 0.0f}};
+      VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdClearColorImage(cmd, variance.get(), VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
+    });
+  };
+  const Lens lens{50.0f, 1.4f, 3.0f};
+  setVariance(gpu::kHybridTrustedRays);
+  RayMaskRig::Frame frame = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples - 1);
   EXPECT_EQ(frame.coverage, 1.0);
   for (uint8_t rays : frame.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
   expectListMatchesMask(frame, rig.width());
+  RayMaskRig::Frame resting = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples);
+  EXPECT_EQ(resting.coverage, 1.0);
+  for (uint8_t rays : resting.rays) ASSERT_EQ(rays, kSamplesPerPixel);
+  setVariance(gpu::kHybridTrustedRays - 1.0f);
+  RayMaskRig::Frame untrusted = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples);
+  for (uint8_t rays : untrusted.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
 }
 
 TEST(RayMask, CoversTheBlurredRailingsSilhouette) {
