@@ -143,6 +143,10 @@ GpuScene::GpuScene(const gpu::Context& context, const Scene& scene, const Bvh& b
                                        VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, "triangle corners");
   lights_ = uploadTexels(context, scene.lights, "scene lights");
   PackedBvh packed = packBvh(bvh);
+  if (packed.nodes.size() > gpu::kBvhMaxNodes)
+    throw SceneError("scene '" + scene.name + "' is too large: its BVH has " +
+                     std::to_string(packed.nodes.size()) + " nodes, at most " +
+                     std::to_string(gpu::kBvhMaxNodes) + " are supported");
   bvhNodes_ = uploadTexels(context, packed.nodes, "bvh nodes");
   bvhTriangles_ = uploadTexels(context, packed.triangles, "bvh triangles");
   for (const gpu::Buffer* buffer :

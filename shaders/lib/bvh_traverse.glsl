@@ -1,12 +1,14 @@
 // Closest-hit traversal of the scene BVH (binned SAH, collapsed into nodes of four children with
 // quantised boxes), in the while-while form of Aila & Laine 2009: interior children are visited
-// nearest first, the hit leaves of a node tested together, with a per-thread stack and an overflow
-// guard. Needs lib/scene.glsl.
+// nearest first, the hit leaves of a node tested together; the siblings left to visit are kept in
+// groups, the newest in registers and the others on a per-thread stack with an overflow guard.
+// Needs lib/scene.glsl.
 #ifndef HDOF_LIB_BVH_TRAVERSE_GLSL
 #define HDOF_LIB_BVH_TRAVERSE_GLSL
 
-// Nodes and triangles read as 16-byte texels of uniform texel buffers (three each): one typed load each, through the texture cache on GPUs; lavapipe turns them into
-// vector gathers, where it splits storage-buffer loads into a loop over the lanes.
+// Nodes and triangles read as 16-byte texels of uniform texel buffers (three each): one typed
+// load each, through the texture cache on GPUs; lavapipe turns them into vector gathers, where it
+// splits storage-buffer loads into a loop over the lanes.
 layout(set = 0, binding = kBindingBvhNodes) uniform usamplerBuffer bvhNodeTexels;
 layout(set = 0, binding = kBindingBvhTriangles) uniform usamplerBuffer bvhTriangleTexels;
 #define bvhTriangleRows(i) uintBitsToFloat(texelFetch(bvhTriangleTexels, int(i)))
@@ -18,17 +20,6 @@ struct RayHit {
 };
 
 const float kNoEntry = 1.0 / 0.0;  // +infinity: beyond any hit
-
-// Entry distance of the ray into the box, or kNoEntry when it misses (or enters beyond tMax).
-// The exit distance is widened a little so that rounding cannot lose a triangle lying in a face.
-float intersectBox(vec3 origin, vec3 inverseDirection, vec3 boxMin, vec3 boxMax, float tMax) {
-  vec3 t0 = (boxMin - origin) * inverseDirection;
-  vec3 t1 = (boxMax - origin) * inverseDirection;
-  vec3 tNear = min(t0, t1), tFar = max(t0, t1);
-  float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
-  float leave = min(min(tFar.x, tFar.y), tFar.z) * 1.0000004;
-  return enter <= min(leave, tMax) ? enter : kNoEntry;
-}
 
 // Möller–Trumbore; updates hit when the triangle is closer than hit.t.
 void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit hit) {
@@ -54,15 +45,41 @@ void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit
 }
 
 // Orders two children by entry distance.
-void sortChildren(inout float entryA, inout uint linkA, inout float entryB, inout uint linkB) {
+void sortChildren(inout float entryA, inout uint rankA, inout float entryB, inout uint rankB) {
   if (entryB < entryA) {
     float entry = entryA;
     entryA = entryB;
     entryB = entry;
-    uint link = linkA;
-    linkA = linkB;
-    linkB = link;
+    uint rank = rankA;
+    rankA = rankB;
+    rankB = rank;
   }
+}
+
+// Entry distances into a node's four child boxes, kNoEntry where the ray misses one, enters it
+// beyond tMax, or the child is empty. A box plane's distance is q * planeStep + planeZero for its
+// quantised position q, one fused multiply-add; the box is widened by the rounding error those
+// can reach, so that rounding cannot lose a triangle lying in a face or just before the hit.
+vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
+                   vec3 inverseDirection, float tMax) {
+  vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
+  vec3 gridStep = uintBitsToFloat((row0.xyz & 0xffu) << 23u);
+  vec3 planeStep = gridStep * inverseDirection;
+  vec3 planeZero = (gridOrigin - origin) * inverseDirection;
+  vec3 planeReach = abs(planeZero) + 255.0 * abs(planeStep);
+  float slack = 1e-6 * max(max(planeReach.x, planeReach.y), planeReach.z);
+  uvec3 lows = row1.xyz, highs = uvec3(row1.w, row2.xy);
+  vec4 entries;
+  for (uint k = 0u; k < kBvhWidth; ++k) {
+    uint shift = 8u * k;
+    vec3 t0 = vec3((lows >> shift) & 0xffu) * planeStep + planeZero;
+    vec3 t1 = vec3((highs >> shift) & 0xffu) * planeStep + planeZero;
+    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+    float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0)) - slack;
+    float leave = min(min(tFar.x, tFar.y), tFar.z) + slack;
+    entries[k] = info[k] != kBvhEmptyChild && enter <= min(leave, tMax) ? enter : kNoEntry;
+  }
+  return entries;
 }
 
 // Returns true on a hit closer than tMax. `overflowed` reports a full stack (subtrees skipped):
@@ -74,11 +91,20 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
   overflowed = false;
   vec3 inverseDirection = 1.0 / max(abs(direction), vec3(1e-20)) * sign(direction);
   inverseDirection = mix(inverseDirection, vec3(1e20), equal(direction, vec3(0.0)));
-  // Pushed subtrees with their entry distances, so that a pop can skip those behind the hit. A
-  // local array: shared memory measured slower here (lavapipe), and callers keep any group size.
-  uint stackNodes[kBvhStackSize];
+  // Siblings still to visit, in groups: the interior children of one node that the ray enters,
+  // but the nearest, nearest first. The newest group lives in registers, with each child's entry
+  // distance; older ones wait on the stack, with their nearest child's (a node's visit stores at
+  // most one group, where a stack of nodes stored each child: lavapipe scatters a store to a
+  // local array lane by lane). A group is the node's first interior child (kBvhMaxNodes) << 8 and
+  // the children's ranks among its interior children, two bits each from bit 0; on the stack,
+  // their count in bits 6-7. Local arrays: shared memory measured slower here (lavapipe), and
+  // callers keep any group size.
+  uint stackGroups[kBvhStackSize];
   float stackEntries[kBvhStackSize];
   uint stackSize = 0u;
+  uint group = 0u;
+  uint groupCount = 0u;
+  vec3 groupEntries = vec3(kNoEntry);
   uint node = 0u;
   bool traversing = true;  // node is an interior node still to visit
   while (true) {
@@ -89,67 +115,64 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
       uvec4 row0 = texelFetch(bvhNodeTexels, int(node * 3u));
       uvec4 row1 = texelFetch(bvhNodeTexels, int(node * 3u + 1u));
       uvec4 row2 = texelFetch(bvhNodeTexels, int(node * 3u + 2u));
-      vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
-      vec3 gridStep = uintBitsToFloat((row0.xyz & 0xffu) << 23u);
-      uvec3 lows = row1.xyz, highs = uvec3(row1.w, row2.xy);
       uvec4 info = (uvec4(row2.z) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu;
-      // Links: interior children are consecutive nodes from the first, leaves' triangles
-      // consecutive from the first triangle, both in child order.
+      vec4 entries = enterChildren(row0, row1, row2, info, origin, inverseDirection, hit.t);
+      // Links: interior children are consecutive nodes from the first (their rank among the
+      // interior children), leaves' triangles consecutive from the first triangle, both in child
+      // order.
       bvec4 interior = equal(info, uvec4(kBvhInteriorChild));
       uvec4 sizes = mix(mix(info, uvec4(0u), equal(info, uvec4(kBvhEmptyChild))), uvec4(1u),
                         interior);
       uvec4 before = uvec4(0u, sizes.x, sizes.x + sizes.y, sizes.x + sizes.y + sizes.z);
-      uvec4 interiorBefore = uvec4(0u, uint(interior.x), uint(interior.x) + uint(interior.y),
-                                   uint(interior.x) + uint(interior.y) + uint(interior.z));
-      uvec4 links = mix(row2.w + before - interiorBefore, row0.w + interiorBefore, interior);
-      vec4 entries;
-      for (uint k = 0u; k < kBvhWidth; ++k) {
-        uint shift = 8u * k;
-        vec3 boxMin = gridOrigin + vec3((lows >> shift) & 0xffu) * gridStep;
-        vec3 boxMax = gridOrigin + vec3((highs >> shift) & 0xffu) * gridStep;
-        entries[k] = info[k] == kBvhEmptyChild
-                         ? kNoEntry
-                         : intersectBox(origin, inverseDirection, boxMin, boxMax, hit.t);
-      }
+      uvec4 ranks = uvec4(0u, uint(interior.x), uint(interior.x) + uint(interior.y),
+                          uint(interior.x) + uint(interior.y) + uint(interior.z));
       bvec4 leaves = notEqual(info, uvec4(kBvhInteriorChild));
       vec4 leafEntries = mix(entries, vec4(kNoEntry), not(leaves));
       leafCount = mix(uvec4(0u), info, lessThan(leafEntries, vec4(kNoEntry)));
-      leafFirst = links;
+      leafFirst = row2.w + before - ranks;
       // Interior children hit, nearest first (a sorting network over four).
       vec4 inner = mix(entries, vec4(kNoEntry), leaves);
       float e0 = inner.x, e1 = inner.y, e2 = inner.z, e3 = inner.w;
-      uint l0 = links.x, l1 = links.y, l2 = links.z, l3 = links.w;
-      sortChildren(e0, l0, e1, l1);
-      sortChildren(e2, l2, e3, l3);
-      sortChildren(e0, l0, e2, l2);
-      sortChildren(e1, l1, e3, l3);
-      sortChildren(e1, l1, e2, l2);
+      uint r0 = ranks.x, r1 = ranks.y, r2 = ranks.z, r3 = ranks.w;
+      sortChildren(e0, r0, e1, r1);
+      sortChildren(e2, r2, e3, r3);
+      sortChildren(e0, r0, e2, r2);
+      sortChildren(e1, r1, e3, r3);
+      sortChildren(e1, r1, e2, r2);
       if (e0 < kNoEntry) {
-        // Push the others farthest first, so that the nearer pop first.
-        uint pushes = uint(e1 < kNoEntry) + uint(e2 < kNoEntry) + uint(e3 < kNoEntry);
-        if (stackSize + pushes > kBvhStackSize) overflowed = true;
-        if (e3 < kNoEntry && stackSize < kBvhStackSize) {
-          stackNodes[stackSize] = l3;
-          stackEntries[stackSize] = e3;
-          ++stackSize;
+        uint others = uint(e1 < kNoEntry) + uint(e2 < kNoEntry) + uint(e3 < kNoEntry);
+        if (others > 0u) {
+          // The nearest goes next; the others become the newest group, the last one stored. A
+          // loop rather than an if: lavapipe runs an if's body whatever its lanes' conditions,
+          // but skips a loop that no lane enters, and most visits store nothing.
+          for (bool spill = groupCount > 0u; spill; spill = false) {
+            if (stackSize < kBvhStackSize) {
+              stackGroups[stackSize] = group | (groupCount << 6u);
+              stackEntries[stackSize] = groupEntries.x;
+              ++stackSize;
+            } else {
+              overflowed = true;
+            }
+          }
+          group = (row0.w << 8u) | r1 | (r2 << 2u) | (r3 << 4u);
+          groupCount = others;
+          groupEntries = vec3(e1, e2, e3);
         }
-        if (e2 < kNoEntry && stackSize < kBvhStackSize) {
-          stackNodes[stackSize] = l2;
-          stackEntries[stackSize] = e2;
-          ++stackSize;
-        }
-        if (e1 < kNoEntry && stackSize < kBvhStackSize) {
-          stackNodes[stackSize] = l1;
-          stackEntries[stackSize] = e1;
-          ++stackSize;
-        }
-        node = l0;
+        node = row0.w + r0;
       } else {
         traversing = false;
-        while (stackSize > 0u && !traversing) {
-          --stackSize;
-          node = stackNodes[stackSize];
-          traversing = stackEntries[stackSize] < hit.t;
+        while (!traversing && (groupCount > 0u || stackSize > 0u)) {
+          if (groupCount == 0u) {
+            --stackSize;
+            group = stackGroups[stackSize];
+            groupCount = (group >> 6u) & 3u;
+            groupEntries = vec3(stackEntries[stackSize]);
+          }
+          node = (group >> 8u) + (group & 3u);
+          traversing = groupEntries.x < hit.t;
+          group = (group & ~0xffu) | ((group & 0x3cu) >> 2u);
+          groupEntries = groupEntries.yzx;
+          --groupCount;
         }
       }
     }

@@ -147,6 +147,8 @@ struct BvhWideNode {
 };
 
 HDOF_CONST uint kBvhStackSize = 64;
+// The traversal stores a node's first interior child in 24 bits (lib/bvh_traverse.glsl).
+HDOF_CONST uint kBvhMaxNodes = 1u << 24u;
 
 HDOF_NAMESPACE_END
 
