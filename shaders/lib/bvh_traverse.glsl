@@ -163,19 +163,22 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
         }
         node = row0.w + r0;
       } else {
+        // The next child nearer than the hit: from the newest group while it lasts, then from
+        // the stack's groups, each loaded only when the one before is spent.
         traversing = false;
-        while (!traversing && (groupCount > 0u || stackSize > 0u)) {
-          if (groupCount == 0u) {
-            --stackSize;
-            group = stackGroups[stackSize];
-            groupCount = (group >> 6u) & 3u;
-            groupEntries = vec3(stackEntries[stackSize]);
+        while (true) {
+          while (!traversing && groupCount > 0u) {
+            node = (group >> 8u) + (group & 3u);
+            traversing = groupEntries.x < hit.t;
+            group = (group & ~0xffu) | ((group & 0x3cu) >> 2u);
+            groupEntries = groupEntries.yzx;
+            --groupCount;
           }
-          node = (group >> 8u) + (group & 3u);
-          traversing = groupEntries.x < hit.t;
-          group = (group & ~0xffu) | ((group & 0x3cu) >> 2u);
-          groupEntries = groupEntries.yzx;
-          --groupCount;
+          if (traversing || stackSize == 0u) break;
+          --stackSize;
+          group = stackGroups[stackSize];
+          groupCount = (group >> 6u) & 3u;
+          groupEntries = vec3(stackEntries[stackSize]);
         }
       }
     }
