@@ -57,29 +57,31 @@ void sortChildren(inout float entryA, inout uint rankA, inout float entryB, inou
 }
 
 // Entry distances into a node's four child boxes, kNoEntry where the ray misses one, enters it
-// beyond tMax, or the child is empty. A box plane's distance is q * planeStep + planeZero for its
-// quantised position q, one fused multiply-add. Each axis's slab is widened by the rounding error
-// that this can reach on that axis (its near plane moved towards the ray, its far plane away), so
-// that rounding cannot lose a triangle lying in a face.
+// beyond tMax, or the child is empty. Along each axis the ray enters a box through the plane it
+// meets first (the low one for a positive direction) and leaves through the other; a plane's
+// distance is q * planeStep + planeZero for its quantised position q, one fused multiply-add.
+// Each axis's slab is widened by the rounding error that this can reach on that axis, so that
+// rounding cannot lose a triangle lying in a face.
 vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
                    vec3 inverseDirection, float tMax) {
   vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
   vec3 gridStep = uintBitsToFloat((row0.xyz & 0xffu) << 23u);
   vec3 planeStep = gridStep * inverseDirection;
   vec3 planeZero = (gridOrigin - origin) * inverseDirection;
-  // On an axis the ray runs along (inverseDirection +-1e20) the slack is as huge as the distances
+  // On an axis the ray runs along (inverseDirection 1e20) the slack is as huge as the distances
   // and leaves them on the same side of the box.
-  vec3 slack = 1e-6 * (abs(planeZero) + 255.0 * abs(planeStep)) * sign(inverseDirection);
-  vec3 lowZero = planeZero - slack, highZero = planeZero + slack;
+  vec3 slack = 1e-6 * (abs(planeZero) + 255.0 * abs(planeStep));
+  vec3 enterZero = planeZero - slack, leaveZero = planeZero + slack;
   uvec3 lows = row1.xyz, highs = uvec3(row1.w, row2.xy);
+  bvec3 positive = greaterThan(inverseDirection, vec3(0.0));
+  uvec3 enterPlanes = mix(highs, lows, positive), leavePlanes = mix(lows, highs, positive);
   vec4 entries;
   for (uint k = 0u; k < kBvhWidth; ++k) {
     uint shift = 8u * k;
-    vec3 t0 = vec3((lows >> shift) & 0xffu) * planeStep + lowZero;
-    vec3 t1 = vec3((highs >> shift) & 0xffu) * planeStep + highZero;
-    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
-    float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
-    float leave = min(min(tFar.x, tFar.y), tFar.z);
+    vec3 tEnter = vec3((enterPlanes >> shift) & 0xffu) * planeStep + enterZero;
+    vec3 tLeave = vec3((leavePlanes >> shift) & 0xffu) * planeStep + leaveZero;
+    float enter = max(max(tEnter.x, tEnter.y), max(tEnter.z, 0.0));
+    float leave = min(min(tLeave.x, tLeave.y), tLeave.z);
     entries[k] = info[k] != kBvhEmptyChild && enter <= min(leave, tMax) ? enter : kNoEntry;
   }
   return entries;
