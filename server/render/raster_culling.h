@@ -21,7 +21,11 @@ struct TriangleRange {
 std::vector<TriangleRun> buildTriangleRuns(const Scene& scene, uint32_t trianglesPerRun = 128);
 
 // The triangles of the runs whose bounds are not wholly outside one plane of the view frustum of
-// viewProj (Vulkan clip space, depth 0..1), neighbouring runs merged into one range.
+// viewProj (Vulkan clip space, depth 0..1). Neighbouring runs wholly inside it are merged into one
+// range; a run across one of its planes is a range of its own, so that the clipping its triangles
+// may need is confined to its own draw (lavapipe, for one, sends a whole draw's batch of vertices
+// through its clipper when one of them is outside, and revisits the batch at every flush of it:
+// measured 20% of the visibility step on the living room before they were split off).
 std::vector<TriangleRange> visibleTriangles(const std::vector<TriangleRun>& runs,
                                             const glm::mat4& viewProj);
 
