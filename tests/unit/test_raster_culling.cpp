@@ -56,7 +56,8 @@ TEST(RasterCulling, DrawsRunsAcrossTheFrustumAlone) {
   gpu::FrameUniforms u = makeFrameUniforms(scene, camera, Lens{}, settings);
   std::vector<TriangleRange> ranges = visibleTriangles(runs, u.viewProj);
   std::vector<std::pair<uint32_t, uint32_t>> got;
-  for (const TriangleRange& range : ranges) got.emplace_back(range.firstTriangle, range.triangleCount);
+  for (const TriangleRange& range : ranges)
+    got.emplace_back(range.firstTriangle, range.triangleCount);
   std::vector<std::pair<uint32_t, uint32_t>> expected{{0, 1}, {1, 1}, {2, 2}, {4, 1}, {5, 1}};
   EXPECT_EQ(got, expected);
 }
