@@ -9,8 +9,15 @@
 // in motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera
 // and lens have rested kMaxRasterSamples frames, a settled pixel's rays follow its variance alone,
 // so that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
+// Then the tile's pixels with rays are appended to the work list together (one atomic per
+// workgroup and counter; a ballot gives each lane its slot among its subgroup's), so that the
+// tracer's subgroups, which take consecutive entries, trace neighbouring pixels: measured 6% faster
+// than one atomic per subgroup, whose tiles interleave in the list as the device's threads run
+// them side by side.
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
@@ -23,15 +30,14 @@ layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 // 1x1 zero image when there is no variance yet.
 layout(set = 1, binding = 3) uniform sampler2D variance;
 layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
+HDOF_RAY_WORK_LIST(5, coherent);
 
 layout(push_constant) uniform Push {
   uint everywhere;  // 1: every pixel gets the full rays
 } push;
 
-void main() {
-  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = ivec2(frame.imageSize);
-  if (any(greaterThanEqual(pixel, size))) return;
+// The pixel's rays this frame.
+uint rayCount(ivec2 pixel, ivec2 size) {
   int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
   bool nearEdge = false;
   float strongest = 0.0;
@@ -65,5 +71,40 @@ void main() {
   // sooner, while it is still noisier than the post-process.
   bool trusted = history.y >= kHybridTrustedRays;
   if (push.everywhere != 0u || resting && trusted && count > 0u) count = samples;
-  imageStore(rays, pixel, uvec4(count));
+  return count;
+}
+
+// The tile's entries and rays, and its first slot in the list.
+shared uint groupListed, groupRays, groupFirst;
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 size = ivec2(frame.imageSize);
+  bool inside = all(lessThan(pixel, size));
+  uint count = inside ? rayCount(pixel, size) : 0u;
+  if (inside) imageStore(rays, pixel, uvec4(count));
+  if (gl_LocalInvocationIndex == 0u) {
+    groupListed = 0u;
+    groupRays = 0u;
+  }
+  barrier();
+  uvec4 ballot = subgroupBallot(count > 0u);
+  uint listed = subgroupBallotBitCount(ballot);
+  uint rayTotal = subgroupAdd(count);
+  uint subgroupFirst = 0u;
+  if (subgroupElect() && listed > 0u) {
+    subgroupFirst = atomicAdd(groupListed, listed);
+    atomicAdd(groupRays, rayTotal);
+  }
+  subgroupFirst = subgroupBroadcastFirst(subgroupFirst);
+  barrier();
+  if (gl_LocalInvocationIndex == 0u && groupListed > 0u) {
+    groupFirst = atomicAdd(workList.header.count, groupListed);
+    atomicAdd(workList.header.rays, groupRays);
+  }
+  barrier();
+  if (count > 0u) {
+    uint slot = groupFirst + subgroupFirst + subgroupBallotExclusiveBitCount(ballot);
+    workList.entries[slot] = uvec2(packRayWorkPixel(uint(pixel.x), uint(pixel.y)), count);
+  }
 }

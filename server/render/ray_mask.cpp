@@ -15,7 +15,6 @@ RayMask::RayMask(const gpu::Context& context)
       dilate_(context, "dof_dilate.comp"),
       spread_(context, "ray_mask_spread.comp"),
       rays_(context, "ray_mask_rays.comp"),
-      compact_(context, "ray_mask_compact.comp"),
       indirect_(context, "ray_mask_indirect.comp"),
       noVarianceBatch_(context),
       noVariance_(noVarianceBatch_.make(1, 1, VK_FORMAT_R16G16_SFLOAT, "ray mask no variance")) {
@@ -49,9 +48,9 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
                  {{"spread", m.spread},
                   {"dilatedTiles", m.dilatedTiles},
                   {"variance", varianceOrNull ? *varianceOrNull : noVariance_},
-                  {"rays", m.rays}},
+                  {"rays", m.rays},
+                  {"workList", m.workList}},
                  Grid::over(m.rays), everywhereFlag);
-  steps.dispatch(compact_, {{"workList", m.workList}, {"rays", m.rays}}, Grid::over(m.rays));
   // The count is final only once every workgroup has appended.
   steps.dispatch(indirect_, {{"workList", m.workList}}, Grid::threads(1));
   steps.step("ray_mask_readback", [&](VkCommandBuffer cmd) {

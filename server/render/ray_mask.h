@@ -37,7 +37,7 @@ class RayMask {
   // The post-process's tile max and tile dilation, run on the edges' reach: per tile, the
   // largest disc that can cover a pixel of it, which bounds the dilation's search there.
   gpu::ComputeProgram tiles_, dilate_;
-  gpu::ComputeProgram spread_, rays_, compact_, indirect_;
+  gpu::ComputeProgram spread_, rays_, indirect_;
   gpu::ImageBatch noVarianceBatch_;
   gpu::Image noVariance_;  // r16f, 1x1, zero
 };

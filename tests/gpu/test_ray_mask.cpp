@@ -279,8 +279,7 @@ TEST(RayMask, ReportsEveryPassTime) {
       times[i].second.push_back(result.passMs[i].second);
     }
   }
-  EXPECT_EQ(times.size(),
-            9u);  // clear, edges, tiles, dilate, spread, rays, compact, indirect, readback
+  EXPECT_EQ(times.size(), 8u);  // clear, edges, tiles, dilate, spread, rays, indirect, readback
   double total = 0.0;
   std::printf("builtin:dof %ux%u f/1.4, median of %d frames:\n", kWidth, kHeight, kFrames);
   for (auto& [name, ms] : times) {
