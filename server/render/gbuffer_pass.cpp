@@ -88,7 +88,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
       layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
       resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
       antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
-      antialias_(context, "antialias.comp") {
+      antialias_(context, "antialias.comp"),
+      antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {
   gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
   gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
   VkPipelineShaderStageCreateInfo stages[2] = {};
@@ -213,11 +214,17 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
     gpu::copyImage(cmd, images.color, images.colorHistory);
   });
   uint32_t valid = historyValid ? 1u : 0u;
-  steps.dispatch(uniforms.rasterSample > 0 ? antialiasStill_ : antialias_,
+  // Without history, the first frame's edges are smoothed spatially, unless the request asks for
+  // samples at the pixel centres (pixelJitter off: no anti-aliasing at all).
+  bool first = !historyValid && uniforms.pixelJitter != 0;
+  steps.dispatch(uniforms.rasterSample > 0 ? antialiasStill_
+                 : first                    ? antialiasFirst_
+                                            : antialias_,
                  {{"rasterColor", images.rasterColor},
                   {"history", images.colorHistory},
                   {"motion", images.motion},
-                  {"outColor", images.color}},
+                  {"outColor", images.color},
+                  {"normalDepth", images.normalDepth}},
                  gpu::Grid::over(images.color), valid);
 }
 

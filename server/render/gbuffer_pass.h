@@ -36,8 +36,9 @@ class GBufferPass {
   gpu::ProgramLayout layout_;
   gpu::Pipeline pipeline_;
   gpu::ComputeProgram resolve_;
-  // antialias.comp for a still view's later samples, and for the other frames.
-  gpu::ComputeProgram antialiasStill_, antialias_;
+  // antialias.comp for a still view's later samples, for the frames in motion, and for the first
+  // frame after a cut.
+  gpu::ComputeProgram antialiasStill_, antialias_, antialiasFirst_;
 };
 
 }  // namespace hdof

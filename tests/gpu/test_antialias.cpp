@@ -58,6 +58,19 @@ TEST(AntiAliasing, AStillViewConvergesToTheSupersampledImage) {
   EXPECT_GT(sixteen, 29.0);
 }
 
+// The first frame after a cut has one sample per pixel: its edges are smoothed from their
+// neighbourhoods, nearer the supersampled image than the samples at the pixel centres.
+TEST(AntiAliasing, TheFirstFrameAfterACutSmoothsItsEdges) {
+  RenderSpec spec = view(RenderMode::Pinhole);
+  spec.pixelJitter = false;
+  double centres = compareImages(renderImage(spec), supersampled()).psnrDb;
+  spec.pixelJitter = true;
+  double smoothed = compareImages(renderImage(spec), supersampled()).psnrDb;
+  std::printf("pinhole's first frame against its supersampled image: %.2f dB, the centres %.2f\n",
+              smoothed, centres);
+  EXPECT_GT(smoothed, centres + 3.0);  // measured 4.8 dB
+}
+
 // In motion each frame samples another sub-pixel position and the reprojected history gathers
 // them: after a slow truck that ends on the view, its edges are smoother than one sample's.
 TEST(AntiAliasing, FramesInMotionGatherJitteredSamples) {
@@ -65,8 +78,10 @@ TEST(AntiAliasing, FramesInMotionGatherJitteredSamples) {
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
   FrameRequest request = closeupRequest(scene.scene, RenderMode::Pinhole);
   Camera end = request.camera;
+  request.settings.pixelJitter = false;  // the sample at each pixel centre, as it is
   pipeline.render(request);
   double oneSample = compareImages(pipeline.image(), supersampled()).psnrDb;
+  request.settings.pixelJitter = true;
   pipeline.cut();
   for (int step = 8; step >= 0; --step) {  // 2 mm a frame, ending on the view
     request.camera = end;
