@@ -98,6 +98,8 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   images_.reset();
   images_ = std::make_unique<FrameImages>(context_, width, height);
   gbuffer_.bindImages(images_->gbuffer, width, height);
+  // The new images hold nothing yet: the raster starts over from a first frame.
+  raster_.valid = false;
   hybrid_.resetHistory();
   accumulation_.valid = false;
   dofOutput_.valid = false;

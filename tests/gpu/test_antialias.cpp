@@ -166,5 +166,32 @@ TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
   EXPECT_LT(restarted, settled - 3.0) << "after a cut the view starts from one sample again";
 }
 
+// The daemon renders a moving view at a smaller scale and returns to the full size when it rests:
+// the frames at the new size start over from their own samples, whatever the raster held at the
+// old one (a still view there, or the move's last frame).
+TEST(AntiAliasing, ANewViewportStartsOver) {
+  SceneOnGpu& scene = testScene(kLivingRoom);
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
+  FrameRequest request = closeupRequest(scene.scene, RenderMode::Pinhole);
+  pipeline.render(request);
+  ImageRgba8 firstFrame = pipeline.image();
+  for (bool stillBefore : {true, false}) {
+    SCOPED_TRACE(stillBefore ? "a still view before" : "a move before");
+    FrameRequest small = request;
+    small.settings.width = kWidth / 2;
+    small.settings.height = kHeight / 2;
+    if (!stillBefore) small.camera.position += small.camera.up * 0.01f;
+    pipeline.resize(small.settings.width, small.settings.height);
+    for (int i = 0; i < 3; ++i) pipeline.render(small);
+    small.camera = request.camera;  // the move ends where the view rests
+    pipeline.render(small);
+    pipeline.resize(kWidth, kHeight);
+    pipeline.render(request);
+    EXPECT_GT(compareImages(pipeline.image(), firstFrame).psnrDb, 35.0);
+    for (uint32_t i = 1; i < gpu::kMaxRasterSamples; ++i) pipeline.render(request);
+    EXPECT_GT(compareImages(pipeline.image(), supersampled()).psnrDb, 35.0);
+  }
+}
+
 }  // namespace
 }  // namespace hdof::test
