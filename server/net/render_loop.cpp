@@ -228,7 +228,7 @@ void RenderLoop::loop() {
     if (!renderMs || session.removed) continue;
     session.state.frameRendered(*renderMs);
     const FrameSettings& size = plan.request.settings;
-    if (plan.moving)
+    if (plan.moving && !plan.lensOnly)
       movingMsPerPixel_[plan.request.mode] = *renderMs / (double(size.width) * size.height);
   }
 }

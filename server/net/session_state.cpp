@@ -65,17 +65,9 @@ float SessionState::interactiveScale() {
                       : seededMsPerPixel_ > 0.0 ? seededMsPerPixel_
                                                 : stillMsPerPixel_;
   if (defaults_.targetFps <= 0.0 || msPerPixel <= 0.0) return 1.0f;
-  Viewport full = renderSize();
   double budgetMs = 1000.0 / defaults_.targetFps;
-  double fullMs = msPerPixel * double(full.width) * double(full.height);
-  // The largest step whose predicted time fits `ms`; render time goes with the pixels: the
-  // square of the scale.
-  auto fitting = [&](double ms) {
-    if (fullMs <= ms) return 1.0f;
-    float scale = float(std::sqrt(ms / fullMs));
-    return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
-  };
-  float down = fitting(budgetMs), up = fitting(kScaleUpMargin * budgetMs);
+  float down = fittingScale(msPerPixel, budgetMs);
+  float up = fittingScale(msPerPixel, kScaleUpMargin * budgetMs);
   if (down < movingScale_)
     movingScale_ = down;
   else if (up > movingScale_)
@@ -83,14 +75,32 @@ float SessionState::interactiveScale() {
   return movingScale_;
 }
 
+float SessionState::lensOnlyScale() const {
+  if (defaults_.targetFps <= 0.0 || lensMsPerPixel_ <= 0.0) return lastFrameScale_;
+  return std::min(lastFrameScale_, fittingScale(lensMsPerPixel_, 1000.0 / defaults_.targetFps));
+}
+
+float SessionState::fittingScale(double msPerPixel, double ms) const {
+  Viewport full = renderSize();
+  double fullMs = msPerPixel * double(full.width) * double(full.height);
+  if (fullMs <= ms) return 1.0f;
+  // Render time goes with the pixels: the square of the scale.
+  float scale = float(std::sqrt(ms / fullMs));
+  return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
+}
+
 void SessionState::frameRendered(double renderMs) {
   if (lastFramePixels_ == 0) return;
   double perPixel = renderMs / double(lastFramePixels_);
+  auto average = [&](double& msPerPixel) {
+    msPerPixel = msPerPixel > 0.0 ? 0.7 * msPerPixel + 0.3 * perPixel : perPixel;
+  };
   if (!lastFrameMoving_)
     stillMsPerPixel_ = perPixel;
+  else if (lastFrameLensOnly_)
+    average(lensMsPerPixel_);
   else
-    movingMsPerPixel_ =
-        movingMsPerPixel_ > 0.0 ? 0.7 * movingMsPerPixel_ + 0.3 * perPixel : perPixel;
+    average(movingMsPerPixel_);
 }
 
 void SessionState::seedCost(double msPerPixel) { seededMsPerPixel_ = msPerPixel; }
@@ -121,15 +131,20 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     inputsCoalesced_ += cameraPending_;
     cameraPending_ = true;
     camera_ = cameraOf(*camera, defaults_.camera);
-    lastMotion_ = received;
+    lastMotion_ = lastCameraMotion_ = received;
     input(camera->seq);
   } else if (const auto* lens = std::get_if<LensMessage>(&message)) {
     inputsCoalesced_ += lensPending_;
     lensPending_ = true;
+    Lens before = lens_;
     lens_ = lensOf(*lens);
     pull_.reset();
     focusAt_.reset();
     lastMotion_ = received;
+    // A new focal length or sensor frames another view: the raster is drawn again, as when the
+    // camera moves.
+    if (lens_.focalLengthMm != before.focalLengthMm || !(lens_.sensor == before.sensor))
+      lastCameraMotion_ = received;
     input(lens->seq);
   } else if (const auto* focus = std::get_if<FocusAtMessage>(&message)) {
     if (auto error = checkPixel("focus_at", focus->x, focus->y)) return error;
@@ -200,11 +215,12 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   }
   if (changed_) accumulated_ = 0;
   bool moving = msBetween(lastMotion_, now) < defaults_.stillAfterMs;
+  bool lensOnly = moving && msBetween(lastCameraMotion_, now) >= defaults_.stillAfterMs;
 
   FramePlan plan;
   plan.frame = ++lastFrame_;
   Viewport size = renderSize();
-  float scale = moving ? interactiveScale() : 1.0f;
+  float scale = !moving ? 1.0f : lensOnly ? lensOnlyScale() : interactiveScale();
   if (scale < 1.0f) size = scaledSize(size, scale);
   plan.request.mode = mode_;
   plan.request.camera = camera_;
@@ -221,11 +237,14 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   plan.accumulatedFrames = ++accumulated_;
   plan.accumulationTarget = framesOfAStillView();
   plan.moving = moving;
+  plan.lensOnly = lensOnly;
   plan.renderScale = float(size.width) / float(viewport_.width);
 
   inFlight_.push_back({plan.frame, false});
   lastFrameStart_ = now;
   lastFrameMoving_ = moving;
+  lastFrameLensOnly_ = lensOnly;
+  lastFrameScale_ = scale;
   lastFramePixels_ = size.width * size.height;
   changed_ = resetHistory_ = cameraPending_ = lensPending_ = requalify_ = false;
   newestInput_.reset();

@@ -46,9 +46,10 @@ struct FramePlan {
   uint32_t seq = 0;           // the last input seq applied
   std::optional<Clock::time_point> inputReceived;  // when the newest input it applies came in
   int jpegQuality = 90;
-  uint32_t accumulatedFrames = 0;  // frames of this view so far, this one included
+  uint32_t accumulatedFrames = 0;   // frames of this view so far, this one included
   uint32_t accumulationTarget = 0;  // frames of a still view, after which it has converged
   bool moving = false;              // the view changed within still_after_ms
+  bool lensOnly = false;            // ... the lens alone (a focus pull, the aperture)
   float renderScale = 1.0f;  // the frame's size over the viewport's (resolution_scale, and lower
                              // while moving to hold target_fps)
 };
@@ -104,6 +105,13 @@ class SessionState {
   // larger step fits kScaleUpMargin of that, so that noisy frame times do not make every
   // frame another size (a new size reallocates the images and restarts the history).
   float interactiveScale();
+  // The scale of a frame in which only the lens changed (a focus pull, the aperture): the last
+  // frame's, whose raster stands at that size (only the DoF steps run; a new size would draw the
+  // raster again), unless such frames overrun 1 / target_fps there.
+  float lensOnlyScale() const;
+  // The largest step of kScaleStep, down to kMinScale, at which frames costing msPerPixel for each
+  // pixel of renderSize fit `ms`.
+  float fittingScale(double msPerPixel, double ms) const;
   static constexpr float kScaleStep = 0.125f, kMinScale = 0.25f;
   static constexpr double kScaleUpMargin = 0.8;
 
@@ -130,12 +138,16 @@ class SessionState {
   uint32_t seq_ = 0;
   std::optional<Clock::time_point> newestInput_;  // not yet in a frame
   Clock::time_point lastMotion_{};                // the last camera, lens or focus change
+  Clock::time_point lastCameraMotion_{};          // the last change of the view framed
   Clock::time_point lastFrameStart_{};
-  bool lastFrameMoving_ = false;
+  bool lastFrameMoving_ = false, lastFrameLensOnly_ = false;
+  float lastFrameScale_ = 1.0f;  // the last frame's size over renderSize's
   uint32_t lastFramePixels_ = 0;
   // Render time per pixel (0: unknown) of this session's moving frames (a moving average), of
-  // another session's in this mode (seedCost), of this session's latest still frame.
+  // another session's in this mode (seedCost), of this session's latest still frame, and of its
+  // frames in which the lens alone changed (a moving average).
   double movingMsPerPixel_ = 0.0, seededMsPerPixel_ = 0.0, stillMsPerPixel_ = 0.0;
+  double lensMsPerPixel_ = 0.0;
   float movingScale_ = 1.0f;  // the scale of the last moving frame
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started

@@ -218,8 +218,8 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
   // samples at the pixel centres (pixelJitter off: no anti-aliasing at all).
   bool first = !historyValid && uniforms.pixelJitter != 0;
   steps.dispatch(uniforms.rasterSample > 0 ? antialiasStill_
-                 : first                    ? antialiasFirst_
-                                            : antialias_,
+                 : first                   ? antialiasFirst_
+                                           : antialias_,
                  {{"rasterColor", images.rasterColor},
                   {"history", images.colorHistory},
                   {"motion", images.motion},

@@ -280,6 +280,31 @@ TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
   EXPECT_LT(meanAbsoluteDifference(decodeJpeg(first->jpeg), decodeJpeg(still->jpeg)), 2.0);
 }
 
+// A focus change on a resting view keeps its size: the raster stands there and only the depth
+// of field is redone, where a smaller frame would draw it again (and show the focus blurred).
+TEST(Serve, AFocusChangeOnARestingViewKeepsItsSize) {
+  constexpr uint32_t width = 160, height = 96;
+  Daemon daemon(withConfig("postprocess", R"("target_fps": 240, "still_after_ms": 300,
+                                              "accumulation_frames": 1)"));
+  auto client = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*client, width, height);
+  std::optional<Frame> first = nextFrame(*client);
+  ASSERT_TRUE(first) << daemon.log();
+  ack(*client, first->header.frame);
+  nlohmann::json lens = welcome["lens"];
+  lens["seq"] = 1;
+  lens["focus_distance"] = lens["focus_distance"].get<double>() * 0.8;
+  client->sendText(lens.dump());
+  std::optional<Frame> pulled = frameApplying(*client, 1);
+  ASSERT_TRUE(pulled) << daemon.log();
+  EXPECT_TRUE(pulled->stats["moving"].get<bool>());
+  EXPECT_EQ(pulled->stats["render_scale"], 1.0)
+      << "the first frame took " << first->stats["render_ms"] << " ms";
+  EXPECT_EQ(pulled->header.width, width);
+  EXPECT_GT(meanAbsoluteDifference(decodeJpeg(first->jpeg), decodeJpeg(pulled->jpeg)), 0.1)
+      << "the focus moved";
+}
+
 TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
   Daemon daemon(withConfig("postprocess", R"("max_rays_per_pixel": 8)"));
   auto client = connectSession(daemon.port());

@@ -317,6 +317,47 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
   EXPECT_EQ(moveFor(12, 0.02), 0.25f) << "down at once";
 }
 
+// A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
+// stands and only the DoF steps run: it scales down only when its own frames overrun target_fps,
+// and the camera's moving frames' cost does not decide it.
+TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  s.startFrame(kStart, noFocus);
+  s.frameRendered(200.0);  // a still frame: 0.01 ms a pixel, the G-buffer included
+  sentAndAcked(s, 1, kStart);
+  uint32_t frame = 1;
+  auto lensFrame = [&](float focus, double ms) {
+    auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+    LensMessage lens;
+    lens.seq = frame;
+    lens.focusDistance = focus;
+    s.apply(lens, at);
+    FramePlan plan = s.startFrame(at, noFocus);
+    EXPECT_TRUE(plan.moving && plan.lensOnly);
+    s.frameRendered(ms);
+    sentAndAcked(s, frame, at);
+    return plan.renderScale;
+  };
+  EXPECT_EQ(lensFrame(3.0f, 20.0), 1.0f) << "the size the raster stands at";
+  EXPECT_EQ(lensFrame(3.5f, 20.0), 1.0f) << "20 ms fits 50";
+  EXPECT_EQ(lensFrame(4.0f, 200.0), 1.0f);
+  // Lens frames now average 0.0037 ms a pixel: 74 ms at full size, 42 ms at 3/4.
+  EXPECT_EQ(lensFrame(4.5f, 20.0), 0.75f) << "down when its own frames overrun";
+
+  // A longer focal length frames another view, as the camera's moves do: the moving frames' scale
+  // (by the still frame's cost, 200 ms at full size).
+  auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+  LensMessage zoom;
+  zoom.seq = frame;
+  zoom.focalLengthMm = 85.0f;
+  s.apply(zoom, at);
+  FramePlan zoomed = s.startFrame(at, noFocus);
+  EXPECT_FALSE(zoomed.lensOnly);
+  EXPECT_EQ(zoomed.renderScale, 0.5f);
+}
+
 TEST(SessionState, TargetFpsZeroNeverScales) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 0.0;
