@@ -130,8 +130,13 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
   if (const auto* camera = std::get_if<CameraMessage>(&message)) {
     inputsCoalesced_ += cameraPending_;
     cameraPending_ = true;
+    Camera before = camera_;
     camera_ = cameraOf(*camera, defaults_.camera);
-    lastMotion_ = lastCameraMotion_ = received;
+    lastMotion_ = received;
+    // The same camera again (a client that sends it with every lens change) leaves the view be.
+    if (camera_.position != before.position || camera_.forward != before.forward ||
+        camera_.up != before.up)
+      lastCameraMotion_ = received;
     input(camera->seq);
   } else if (const auto* lens = std::get_if<LensMessage>(&message)) {
     inputsCoalesced_ += lensPending_;

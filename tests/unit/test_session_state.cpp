@@ -319,17 +319,21 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
 
 // A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
 // stands and only the DoF steps run: it scales down only when its own frames overrun target_fps,
-// and the camera's moving frames' cost does not decide it.
+// and the camera's moving frames' cost does not decide it. The same camera sent again beside the
+// lens is no move.
 TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 20.0;  // 50 ms a frame
   SessionState s(d, {200, 100});
+  s.apply(camera(1, 0.0f), kStart);
   s.startFrame(kStart, noFocus);
-  s.frameRendered(200.0);  // a still frame: 0.01 ms a pixel, the G-buffer included
+  s.frameRendered(200.0);  // 0.01 ms a pixel, the G-buffer included
   sentAndAcked(s, 1, kStart);
   uint32_t frame = 1;
+  const auto rested = kStart + 200ms;
   auto lensFrame = [&](float focus, double ms) {
-    auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+    auto at = rested + std::chrono::milliseconds(10 * ++frame);
+    s.apply(camera(frame, 0.0f), at);
     LensMessage lens;
     lens.seq = frame;
     lens.focusDistance = focus;
@@ -347,8 +351,8 @@ TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   EXPECT_EQ(lensFrame(4.5f, 20.0), 0.75f) << "down when its own frames overrun";
 
   // A longer focal length frames another view, as the camera's moves do: the moving frames' scale
-  // (by the still frame's cost, 200 ms at full size).
-  auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+  // (by the first frame's cost, 200 ms at full size).
+  auto at = rested + std::chrono::milliseconds(10 * ++frame);
   LensMessage zoom;
   zoom.seq = frame;
   zoom.focalLengthMm = 85.0f;
