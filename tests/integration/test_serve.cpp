@@ -23,6 +23,25 @@ DaemonOptions withConfig(const std::string& mode, const std::string& more = "") 
   return {{}, R"({"mode": ")" + mode + "\"" + (more.empty() ? "" : ", " + more) + "}", {}};
 }
 
+// A daemon whose target_fps (240) no frame here holds: a moving frame renders smaller.
+DaemonOptions interactiveConfig(const std::string& mode) {
+  return withConfig(mode, R"("target_fps": 240, "still_after_ms": 300, "accumulation_frames": 1)");
+}
+
+// A session's welcome and its first frame (acked), at the size asked for.
+struct FirstFrame {
+  nlohmann::json welcome;
+  std::optional<Frame> frame;
+};
+FirstFrame helloAndFirstFrame(net::WsClient& client, uint32_t width, uint32_t height) {
+  FirstFrame first{helloAndWelcome(client, width, height), nextFrame(client)};
+  if (first.frame) {
+    ack(client, first.frame->header.frame);
+    EXPECT_EQ(first.frame->header.width, width);
+  }
+  return first;
+}
+
 nlohmann::json cameraMessage(const nlohmann::json& welcome, uint32_t seq, float dx) {
   nlohmann::json camera = welcome["camera"];
   camera["seq"] = seq;
@@ -237,14 +256,10 @@ TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
 // 1 / target_fps, says so in render_scale, and a resting view is full size again.
 TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
   constexpr uint32_t width = 160, height = 96;
-  Daemon daemon(withConfig("hybrid", R"("target_fps": 240, "still_after_ms": 300,
-                                         "accumulation_frames": 1)"));
+  Daemon daemon(interactiveConfig("hybrid"));
   auto client = connectSession(daemon.port());
-  nlohmann::json welcome = helloAndWelcome(*client, width, height);
-  std::optional<Frame> first = nextFrame(*client);
+  auto [welcome, first] = helloAndFirstFrame(*client, width, height);
   ASSERT_TRUE(first) << daemon.log();
-  ack(*client, first->header.frame);
-  EXPECT_EQ(first->header.width, width);
   EXPECT_EQ(first->stats["render_scale"], 1.0);
 
   // The first moving frame teaches the daemon what a pixel costs; the next ones use it.
@@ -284,13 +299,10 @@ TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
 // of field is redone, where a smaller frame would draw it again (and show the focus blurred).
 TEST(Serve, AFocusChangeOnARestingViewKeepsItsSize) {
   constexpr uint32_t width = 160, height = 96;
-  Daemon daemon(withConfig("postprocess", R"("target_fps": 240, "still_after_ms": 300,
-                                              "accumulation_frames": 1)"));
+  Daemon daemon(interactiveConfig("postprocess"));
   auto client = connectSession(daemon.port());
-  nlohmann::json welcome = helloAndWelcome(*client, width, height);
-  std::optional<Frame> first = nextFrame(*client);
+  auto [welcome, first] = helloAndFirstFrame(*client, width, height);
   ASSERT_TRUE(first) << daemon.log();
-  ack(*client, first->header.frame);
   nlohmann::json lens = welcome["lens"];
   lens["seq"] = 1;
   lens["focus_distance"] = lens["focus_distance"].get<double>() * 0.8;

@@ -40,6 +40,14 @@ std::optional<ProtocolError> sentAndAcked(SessionState& s, uint32_t frame, Clock
   return s.apply(AckMessage{frame}, t);
 }
 
+// Frame `frame`, started at `at`, taking msPerPixel for each pixel it renders; sent and acked.
+FramePlan frameTaking(SessionState& s, uint32_t frame, Clock::time_point at, double msPerPixel) {
+  FramePlan plan = s.startFrame(at, noFocus);
+  s.frameRendered(msPerPixel * plan.request.settings.width * plan.request.settings.height);
+  sentAndAcked(s, frame, at);
+  return plan;
+}
+
 bool dueAt(const SessionState& s, Clock::time_point t) {
   auto due = s.nextFrameDue();
   return due && *due <= t;
@@ -303,9 +311,7 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
     for (int i = 0; i < frames; ++i) {
       auto at = kStart + std::chrono::milliseconds(10 * ++frame);
       s.apply(camera(frame, float(frame)), at);
-      plan = s.startFrame(at, noFocus);
-      s.frameRendered(msPerPixel * plan.request.settings.width * plan.request.settings.height);
-      sentAndAcked(s, frame, at);
+      plan = frameTaking(s, frame, at, msPerPixel);
     }
     return plan.renderScale;
   };
@@ -331,24 +337,22 @@ TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   sentAndAcked(s, 1, kStart);
   uint32_t frame = 1;
   const auto rested = kStart + 200ms;
-  auto lensFrame = [&](float focus, double ms) {
+  auto lensFrame = [&](float focus, double msPerPixel) {
     auto at = rested + std::chrono::milliseconds(10 * ++frame);
     s.apply(camera(frame, 0.0f), at);
     LensMessage lens;
     lens.seq = frame;
     lens.focusDistance = focus;
     s.apply(lens, at);
-    FramePlan plan = s.startFrame(at, noFocus);
+    FramePlan plan = frameTaking(s, frame, at, msPerPixel);
     EXPECT_TRUE(plan.moving && plan.lensOnly);
-    s.frameRendered(ms);
-    sentAndAcked(s, frame, at);
     return plan.renderScale;
   };
-  EXPECT_EQ(lensFrame(3.0f, 20.0), 1.0f) << "the size the raster stands at";
-  EXPECT_EQ(lensFrame(3.5f, 20.0), 1.0f) << "20 ms fits 50";
-  EXPECT_EQ(lensFrame(4.0f, 200.0), 1.0f);
+  EXPECT_EQ(lensFrame(3.0f, 0.001), 1.0f) << "the size the raster stands at";
+  EXPECT_EQ(lensFrame(3.5f, 0.001), 1.0f) << "20 ms fits 50";
+  EXPECT_EQ(lensFrame(4.0f, 0.01), 1.0f);
   // Lens frames now average 0.0037 ms a pixel: 74 ms at full size, 42 ms at 3/4.
-  EXPECT_EQ(lensFrame(4.5f, 20.0), 0.75f) << "down when its own frames overrun";
+  EXPECT_EQ(lensFrame(4.5f, 0.001), 0.75f) << "down when its own frames overrun";
 
   // A longer focal length frames another view, as the camera's moves do: the moving frames' scale
   // (by the first frame's cost, 200 ms at full size).
