@@ -223,17 +223,18 @@ void RenderLoop::loop() {
     metrics_.inputsCoalesced(coalesced - session.coalescedReported);
     session.coalescedReported = coalesced;
     lock.unlock();
-    std::optional<double> renderMs = render(id, session, plan);
+    std::optional<Rendered> rendered = render(id, session, plan);
     lock.lock();  // the entry stays: only this thread erases entries
-    if (!renderMs || session.removed) continue;
-    session.state.frameRendered(*renderMs);
+    if (!rendered || session.removed) continue;
+    session.state.frameRendered(rendered->ms, rendered->rasterDrawn);
     const FrameSettings& size = plan.request.settings;
     if (plan.moving && !plan.lensOnly)
-      movingMsPerPixel_[plan.request.mode] = *renderMs / (double(size.width) * size.height);
+      movingMsPerPixel_[plan.request.mode] = rendered->ms / (double(size.width) * size.height);
   }
 }
 
-std::optional<double> RenderLoop::render(uint64_t id, Session& session, const FramePlan& plan) {
+std::optional<RenderLoop::Rendered> RenderLoop::render(uint64_t id, Session& session,
+                                                      const FramePlan& plan) {
   try {
     if (fault_ == RenderFault::Stall) {
       std::unique_lock lock(mutex_);
@@ -267,9 +268,9 @@ std::optional<double> RenderLoop::render(uint64_t id, Session& session, const Fr
       frame.stats.gpuMs = session.timedGpuMs;
     }
     session.framesSinceTimed = (session.framesSinceTimed + 1) % kTimedFrameInterval;
-    double renderMs = frame.stats.wallMs;
+    Rendered rendered{frame.stats.wallMs, frame.stats.rasterDrawn};
     onFrame_(std::move(frame));
-    return renderMs;
+    return rendered;
   } catch (const std::exception& e) {
     bool lost = false;
     if (const auto* vulkan = dynamic_cast<const VulkanError*>(&e))

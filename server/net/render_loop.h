@@ -101,9 +101,13 @@ class RenderLoop {
   // The next session due now (round robin after the last one served), or the time one is due.
   std::map<uint64_t, Session>::iterator pickDue(Clock::time_point now,
                                                 std::optional<Clock::time_point>& nextDue);
-  // Renders the plan and hands the frame on; returns its render time (ms), or nothing when the
-  // session failed.
-  std::optional<double> render(uint64_t id, Session& session, const FramePlan& plan);
+  // Renders the plan and hands the frame on; returns its render time (submit to finish) and
+  // whether it drew the raster, or nothing when the session failed.
+  struct Rendered {
+    double ms = 0.0;
+    bool rasterDrawn = false;
+  };
+  std::optional<Rendered> render(uint64_t id, Session& session, const FramePlan& plan);
 
   const gpu::Context& context_;
   const Scene& scene_;

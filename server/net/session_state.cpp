@@ -77,7 +77,12 @@ float SessionState::interactiveScale() {
 
 float SessionState::lensOnlyScale() const {
   if (defaults_.targetFps <= 0.0 || lensMsPerPixel_ <= 0.0) return lastFrameScale_;
-  return std::min(lastFrameScale_, fittingScale(lensMsPerPixel_, 1000.0 / defaults_.targetFps));
+  double budgetMs = 1000.0 / defaults_.targetFps;
+  // A smaller size draws the raster again (and gathers its samples anew): worth it only for an
+  // overrun that makes the pull stutter.
+  if (fittingScale(lensMsPerPixel_, kLensOverrun * budgetMs) >= lastFrameScale_)
+    return lastFrameScale_;
+  return std::min(lastFrameScale_, fittingScale(lensMsPerPixel_, budgetMs));
 }
 
 float SessionState::fittingScale(double msPerPixel, double ms) const {
@@ -89,7 +94,7 @@ float SessionState::fittingScale(double msPerPixel, double ms) const {
   return std::max(kMinScale, std::floor(scale / kScaleStep) * kScaleStep);
 }
 
-void SessionState::frameRendered(double renderMs) {
+void SessionState::frameRendered(double renderMs, bool rasterDrawn) {
   if (lastFramePixels_ == 0) return;
   double perPixel = renderMs / double(lastFramePixels_);
   auto average = [&](double& msPerPixel) {
@@ -97,8 +102,9 @@ void SessionState::frameRendered(double renderMs) {
   };
   if (!lastFrameMoving_)
     stillMsPerPixel_ = perPixel;
-  else if (lastFrameLensOnly_)
-    average(lensMsPerPixel_);
+  else if (lastFrameLensOnly_) {
+    if (!rasterDrawn) average(lensMsPerPixel_);
+  }
   else
     average(movingMsPerPixel_);
 }

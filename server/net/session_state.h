@@ -77,8 +77,9 @@ class SessionState {
   void frameSent(uint32_t frame);
   // How long the frame last started took to render (submit to finish): moving frames teach the
   // interactive resolution what a pixel costs (until one has, another session's moving frames in
-  // this mode, from seedCost, else this session's still frames).
-  void frameRendered(double renderMs);
+  // this mode, from seedCost, else this session's still frames); lens-only frames what a lens
+  // change costs, unless they drew the raster (the first frames at a new size, which pass).
+  void frameRendered(double renderMs, bool rasterDrawn = false);
   void seedCost(double msPerPixel);
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
   void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
@@ -107,8 +108,9 @@ class SessionState {
   float interactiveScale();
   // The scale of a frame in which only the lens changed (a focus pull, the aperture): the last
   // frame's, whose raster stands at that size (only the DoF steps run; a new size would draw the
-  // raster again), unless such frames overrun 1 / target_fps there.
+  // raster again), unless such frames overrun 1 / target_fps there by more than kLensOverrun.
   float lensOnlyScale() const;
+  static constexpr double kLensOverrun = 1.5;
   // The largest step of kScaleStep, down to kMinScale, at which frames costing msPerPixel for each
   // pixel of renderSize fit `ms`.
   float fittingScale(double msPerPixel, double ms) const;

@@ -210,6 +210,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   stats.wallMs =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   stats.passMs = timer_.results();
+  stats.rasterDrawn = drawsGBuffer;
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
 
   previousViewProj_ = uniforms.viewProj;

@@ -46,6 +46,7 @@ struct FrameStats {
   uint32_t accumulatedSamples = 0;  // ray-traced modes: rays per pixel in the image so far
   double maskCoverage = 0.0;        // hybrid: the fraction of pixels the ray mask traced
   uint64_t raysShot = 0;            // ray-traced modes: camera rays traced this frame
+  bool rasterDrawn = false;         // the G-buffer was drawn (a new view, size or raster sample)
   double passMsOf(const std::string& pass) const;
 };
 

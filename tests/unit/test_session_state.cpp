@@ -41,9 +41,11 @@ std::optional<ProtocolError> sentAndAcked(SessionState& s, uint32_t frame, Clock
 }
 
 // Frame `frame`, started at `at`, taking msPerPixel for each pixel it renders; sent and acked.
-FramePlan frameTaking(SessionState& s, uint32_t frame, Clock::time_point at, double msPerPixel) {
+FramePlan frameTaking(SessionState& s, uint32_t frame, Clock::time_point at, double msPerPixel,
+                      bool rasterDrawn = false) {
   FramePlan plan = s.startFrame(at, noFocus);
-  s.frameRendered(msPerPixel * plan.request.settings.width * plan.request.settings.height);
+  s.frameRendered(msPerPixel * plan.request.settings.width * plan.request.settings.height,
+                  rasterDrawn);
   sentAndAcked(s, frame, at);
   return plan;
 }
@@ -324,9 +326,9 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
 }
 
 // A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
-// stands and only the DoF steps run: it scales down only when its own frames overrun target_fps,
-// and the camera's moving frames' cost does not decide it. The same camera sent again beside the
-// lens is no move.
+// stands and only the DoF steps run: it scales down only when its own frames overrun target_fps by
+// half (a new size draws the raster again), the frames that drew it not counted; the camera's
+// moving frames' cost does not decide it. The same camera sent again beside the lens is no move.
 TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 20.0;  // 50 ms a frame
@@ -337,22 +339,26 @@ TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   sentAndAcked(s, 1, kStart);
   uint32_t frame = 1;
   const auto rested = kStart + 200ms;
-  auto lensFrame = [&](float focus, double msPerPixel) {
+  auto lensFrame = [&](float focus, double msPerPixel, bool rasterDrawn = false) {
     auto at = rested + std::chrono::milliseconds(10 * ++frame);
     s.apply(camera(frame, 0.0f), at);
     LensMessage lens;
     lens.seq = frame;
     lens.focusDistance = focus;
     s.apply(lens, at);
-    FramePlan plan = frameTaking(s, frame, at, msPerPixel);
+    FramePlan plan = frameTaking(s, frame, at, msPerPixel, rasterDrawn);
     EXPECT_TRUE(plan.moving && plan.lensOnly);
     return plan.renderScale;
   };
+  // Lens frames average 0.7 of the average before and 0.3 of the new frame's ms a pixel.
   EXPECT_EQ(lensFrame(3.0f, 0.001), 1.0f) << "the size the raster stands at";
-  EXPECT_EQ(lensFrame(3.5f, 0.001), 1.0f) << "20 ms fits 50";
-  EXPECT_EQ(lensFrame(4.0f, 0.01), 1.0f);
-  // Lens frames now average 0.0037 ms a pixel: 74 ms at full size, 42 ms at 3/4.
-  EXPECT_EQ(lensFrame(4.5f, 0.001), 0.75f) << "down when its own frames overrun";
+  EXPECT_EQ(lensFrame(3.5f, 0.0045), 1.0f) << "20 ms fits 50";
+  EXPECT_EQ(lensFrame(4.0f, 0.0045), 1.0f) << "41 ms fits";
+  EXPECT_EQ(lensFrame(4.5f, 0.02), 1.0f) << "56 ms: over by less than half";
+  EXPECT_EQ(lensFrame(5.0f, 0.002), 0.5f) << "159 ms: down to what fits 50 ms";
+  // The first frame at half size draws the raster there: 500 ms for its 5000 pixels.
+  EXPECT_EQ(lensFrame(5.5f, 0.1, true), 0.5f);
+  EXPECT_EQ(lensFrame(6.0f, 0.002), 0.5f) << "the frame that drew the raster is not counted";
 
   // A longer focal length frames another view, as the camera's moves do: the moving frames' scale
   // (by the first frame's cost, 200 ms at full size).
