@@ -234,7 +234,7 @@ void RenderLoop::loop() {
 }
 
 std::optional<RenderLoop::Rendered> RenderLoop::render(uint64_t id, Session& session,
-                                                      const FramePlan& plan) {
+                                                       const FramePlan& plan) {
   try {
     if (fault_ == RenderFault::Stall) {
       std::unique_lock lock(mutex_);

@@ -102,11 +102,10 @@ void SessionState::frameRendered(double renderMs, bool rasterDrawn) {
   };
   if (!lastFrameMoving_)
     stillMsPerPixel_ = perPixel;
-  else if (lastFrameLensOnly_) {
-    if (!rasterDrawn) average(lensMsPerPixel_);
-  }
-  else
+  else if (!lastFrameLensOnly_)
     average(movingMsPerPixel_);
+  else if (!rasterDrawn)
+    average(lensMsPerPixel_);
 }
 
 void SessionState::seedCost(double msPerPixel) { seededMsPerPixel_ = msPerPixel; }
