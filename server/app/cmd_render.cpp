@@ -63,7 +63,7 @@ int runRender(std::span<const std::string> args) {
   parser.option("--size", "WxH", "image size in pixels (default 640x360)", &size);
   addLensOptions(parser, lensOptions);
   parser.flag("--no-pixel-jitter",
-              "ray tracing: rays through pixel centres, as the raster samples (no antialiasing)",
+              "rays and raster samples through pixel centres: no antialiasing in any mode",
               &noJitter);
   parser.option("--view", debugViewNames(), "hybrid: a debug view instead of the image", &view);
   parser.flag("--full-mask", "hybrid: trace every pixel at --spp rays, as if the mask covered all",
