@@ -5,6 +5,8 @@
 // the view moves, each frame samples another jittered position and the history is reprojected by
 // the motion vectors, clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the
 // surface changed) and blended in, so that edges stay smooth in motion where the picture allows it.
+// The first frame after a cut, one sample per pixel with no history, smooths its edges spatially
+// (spatialAntialias).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -83,9 +85,11 @@ bool geometryStepsAround(ivec2 pixel) {
   return steps;
 }
 
-float lumaAt(ivec2 pixel) {
-  return compressedLuma(imageLoad(rasterColor, clamp(pixel, ivec2(0), ivec2(frame.imageSize) - 1)).rgb);
+// This frame's sample at a pixel (edges clamped), and its luma.
+vec3 rasterAt(ivec2 pixel) {
+  return imageLoad(rasterColor, clamp(pixel, ivec2(0), ivec2(frame.imageSize) - 1)).rgb;
 }
+float lumaAt(ivec2 pixel) { return compressedLuma(rasterAt(pixel)); }
 
 // The blend of an edge pixel with its neighbour across the edge (see above), from its luma and
 // its four neighbours'.
@@ -141,8 +145,7 @@ vec3 smoothEdge(ivec2 pixel, vec3 current, float lC, vec4 lNSWE, float range) {
   float standsOut = clamp(abs(average - lC) / range, 0.0, 1.0);
   standsOut = standsOut * standsOut * (3.0 - 2.0 * standsOut);
   float subPixelBlend = standsOut * standsOut * kSubPixelAmount;
-  vec3 neighbour =
-      imageLoad(rasterColor, clamp(pixel + across, ivec2(0), ivec2(frame.imageSize) - 1)).rgb;
+  vec3 neighbour = rasterAt(pixel + across);
   if (max(luminance(current), luminance(neighbour)) > kBrightest) return current;
   return mix(current, neighbour, max(edgeBlend, subPixelBlend));
 }
@@ -180,10 +183,9 @@ void main() {
     vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;
     if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize)))) {
       vec3 low = current, high = current;
-      ivec2 last = ivec2(frame.imageSize) - 1;
       [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
         [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
-          vec3 c = imageLoad(rasterColor, clamp(pixel + ivec2(dx, dy), ivec2(0), last)).rgb;
+          vec3 c = rasterAt(pixel + ivec2(dx, dy));
           low = min(low, c);
           high = max(high, c);
         }
