@@ -165,6 +165,22 @@ int runBench(std::span<const std::string> args) {
   double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
   double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
 
+  // Frames after a cut: no history, one raster sample whose edges the anti-aliasing smooths
+  // spatially; what a new session's first frame and every camera jump cost.
+  auto cutFrameMs = [&](RenderMode mode) {
+    request.mode = mode;
+    request.timePasses = false;
+    std::vector<double> ms;
+    for (uint32_t i = 0; i < frames; ++i) {
+      setup.pipeline.resetHistory();
+      ms.push_back(setup.pipeline.render(request).wallMs);
+    }
+    request.timePasses = true;
+    return median(ms);
+  };
+  double postProcessCutMs = cutFrameMs(RenderMode::PostProcess);
+  double hybridCutMs = cutFrameMs(RenderMode::Hybrid);
+
   request.settings.samplesPerPixel = 1;
   double referenceMs = measure(RenderMode::Reference, {"reference"});
   double rays = double(imageSize.width) * imageSize.height;
@@ -184,6 +200,7 @@ int runBench(std::span<const std::string> args) {
         "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
         "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
         "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f,"
+        "\"postprocess_cut_frame_ms\":%.3f,\"hybrid_cut_frame_ms\":%.3f,"
         "\"lens\":{\"focal_length_mm\":%.3f,\"f_number\":%.4g,\"focus_distance\":%.4f,"
         "\"sensor_width_mm\":%.4g,\"sensor_height_mm\":%.4g,\"fov_x_deg\":%.3f,"
         "\"fov_y_deg\":%.3f}}\n",
@@ -193,7 +210,7 @@ int runBench(std::span<const std::string> args) {
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         postProcessGpuMs, hybridGpuMs, rayTraceGpuMs, maskCoverage, hybridRays,
         hybridPassesJson.c_str(), fullTraceMs, fullRays, postProcessFocusPullMs, hybridFocusPullMs,
-        lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
+        postProcessCutMs, hybridCutMs, lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
         lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
@@ -224,6 +241,10 @@ int runBench(std::span<const std::string> args) {
       "focus_pull_frame_ms: postprocess=%.1f hybrid=%.1f (lens-only frames on a settled still "
       "view; wall clock, medians of %u)\n",
       postProcessFocusPullMs, hybridFocusPullMs, frames);
+  std::printf(
+      "cut_frame_ms: postprocess=%.1f hybrid=%.1f (the first frame of a view, without history; "
+      "wall clock, medians of %u)\n",
+      postProcessCutMs, hybridCutMs, frames);
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));

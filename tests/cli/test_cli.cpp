@@ -116,6 +116,9 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
                                   "\"fov_x_deg\":19.6"),
             std::string::npos)
       << bench.stdoutText;
+  // ... and what a lens-only frame and a frame after a cut cost.
+  for (const char* figure : {"\"hybrid_focus_pull_ms\":", "\"hybrid_cut_frame_ms\":"})
+    EXPECT_NE(bench.stdoutText.find(figure), std::string::npos) << figure;
 }
 
 TEST(Cli, BadQualityInputIsAOneLineError) {
