@@ -76,13 +76,14 @@ float SessionState::interactiveScale() {
 }
 
 float SessionState::lensOnlyScale() const {
-  if (defaults_.targetFps <= 0.0 || lensMsPerPixel_ <= 0.0) return lastFrameScale_;
+  double msPerPixel = lensMsPerPixel_ > 0.0 ? lensMsPerPixel_ : restingMsPerPixel_;
+  if (defaults_.targetFps <= 0.0 || msPerPixel <= 0.0) return lastFrameScale_;
   double budgetMs = 1000.0 / defaults_.targetFps;
   // A smaller size draws the raster again (and gathers its samples anew): worth it only for an
   // overrun that makes the pull stutter.
-  if (fittingScale(lensMsPerPixel_, kLensOverrun * budgetMs) >= lastFrameScale_)
+  if (fittingScale(msPerPixel, kLensOverrun * budgetMs) >= lastFrameScale_)
     return lastFrameScale_;
-  return std::min(lastFrameScale_, fittingScale(lensMsPerPixel_, budgetMs));
+  return std::min(lastFrameScale_, fittingScale(msPerPixel, budgetMs));
 }
 
 float SessionState::fittingScale(double msPerPixel, double ms) const {
@@ -100,9 +101,10 @@ void SessionState::frameRendered(double renderMs, bool rasterDrawn) {
   auto average = [&](double& msPerPixel) {
     msPerPixel = msPerPixel > 0.0 ? 0.7 * msPerPixel + 0.3 * perPixel : perPixel;
   };
-  if (!lastFrameMoving_)
+  if (!lastFrameMoving_) {
     stillMsPerPixel_ = perPixel;
-  else if (!lastFrameLensOnly_)
+    if (!rasterDrawn) restingMsPerPixel_ = perPixel;
+  } else if (!lastFrameLensOnly_)
     average(movingMsPerPixel_);
   else if (!rasterDrawn)
     average(lensMsPerPixel_);

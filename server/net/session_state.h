@@ -77,8 +77,9 @@ class SessionState {
   void frameSent(uint32_t frame);
   // How long the frame last started took to render (submit to finish): moving frames teach the
   // interactive resolution what a pixel costs (until one has, another session's moving frames in
-  // this mode, from seedCost, else this session's still frames); lens-only frames what a lens
-  // change costs, unless they drew the raster (the first frames at a new size, which pass).
+  // this mode, from seedCost, else this session's still frames); lens-only frames, and until one
+  // has, still frames, what a lens change costs, unless they drew the raster (the first frames
+  // at a new size, which pass).
   void frameRendered(double renderMs, bool rasterDrawn = false);
   void seedCost(double msPerPixel);
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
@@ -108,7 +109,8 @@ class SessionState {
   float interactiveScale();
   // The scale of a frame in which only the lens changed (a focus pull, the aperture): the last
   // frame's, whose raster stands at that size (only the DoF steps run; a new size would draw the
-  // raster again), unless such frames overrun 1 / target_fps there by more than kLensOverrun.
+  // raster again), unless such frames (until one is timed, a still frame that reused the raster)
+  // overrun 1 / target_fps there by more than kLensOverrun.
   float lensOnlyScale() const;
   static constexpr double kLensOverrun = 1.5;
   // The largest step of kScaleStep, down to kMinScale, at which frames costing msPerPixel for each
@@ -146,10 +148,11 @@ class SessionState {
   float lastFrameScale_ = 1.0f;  // the last frame's size over renderSize's
   uint32_t lastFramePixels_ = 0;
   // Render time per pixel (0: unknown) of this session's moving frames (a moving average), of
-  // another session's in this mode (seedCost), of this session's latest still frame, and of its
-  // frames in which the lens alone changed (a moving average).
+  // another session's in this mode (seedCost), of this session's latest still frame, of its frames
+  // in which the lens alone changed (a moving average), and of its latest still frame that reused
+  // the raster (what a lens change costs, until one has been timed).
   double movingMsPerPixel_ = 0.0, seededMsPerPixel_ = 0.0, stillMsPerPixel_ = 0.0;
-  double lensMsPerPixel_ = 0.0;
+  double lensMsPerPixel_ = 0.0, restingMsPerPixel_ = 0.0;
   float movingScale_ = 1.0f;  // the scale of the last moving frame
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started

@@ -372,6 +372,24 @@ TEST(SessionState, ALensChangeKeepsTheSizeItsRasterStandsAt) {
   EXPECT_EQ(zoomed.renderScale, 0.5f);
 }
 
+// The first lens-only frame, before any has been timed, is scaled by a still frame that reused
+// the raster (one that drew it says nothing of a lens change's cost).
+TEST(SessionState, TheFirstLensChangeIsScaledByARestingFrame) {
+  SessionDefaults d = defaults(RenderMode::Hybrid);
+  d.targetFps = 20.0;  // 50 ms a frame
+  for (bool drewRaster : {true, false}) {
+    SessionState s(d, {200, 100});
+    frameTaking(s, 1, kStart, 0.02, drewRaster);  // 400 ms at full size
+    LensMessage lens;
+    lens.seq = 2;
+    lens.focusDistance = 3.0f;
+    s.apply(lens, kStart + 10ms);
+    FramePlan pulled = s.startFrame(kStart + 10ms, noFocus);
+    ASSERT_TRUE(pulled.lensOnly);
+    EXPECT_EQ(pulled.renderScale, drewRaster ? 1.0f : 0.25f) << drewRaster;
+  }
+}
+
 TEST(SessionState, TargetFpsZeroNeverScales) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 0.0;
