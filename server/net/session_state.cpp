@@ -81,8 +81,7 @@ float SessionState::lensOnlyScale() const {
   double budgetMs = 1000.0 / defaults_.targetFps;
   // A smaller size draws the raster again (and gathers its samples anew): worth it only for an
   // overrun that makes the pull stutter.
-  if (fittingScale(msPerPixel, kLensOverrun * budgetMs) >= lastFrameScale_)
-    return lastFrameScale_;
+  if (fittingScale(msPerPixel, kLensOverrun * budgetMs) >= lastFrameScale_) return lastFrameScale_;
   return std::min(lastFrameScale_, fittingScale(msPerPixel, budgetMs));
 }
 
