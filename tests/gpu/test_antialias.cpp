@@ -141,16 +141,20 @@ TEST(AntiAliasing, ALensChangeKeepsTheAverageAndACameraMoveStartsOver) {
     return std::any_of(stats.passMs.begin(), stats.passMs.end(),
                        [](const auto& pass) { return pass.first.rfind("dof_", 0) == 0; });
   };
-  for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i)
-    EXPECT_TRUE(rasterised(pipeline.render(request))) << "sample " << i;
+  for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i) {
+    FrameStats stats = pipeline.render(request);
+    EXPECT_TRUE(rasterised(stats) && stats.rasterDrawn) << "sample " << i;
+  }
   double settled = compareImages(pipeline.image(), supersampled()).psnrDb;
   ImageRgba8 before = pipeline.image();
   FrameStats rest = pipeline.render(request);
   EXPECT_FALSE(rasterised(rest) || blurred(rest)) << "nothing changed: the last DoF output stands";
+  EXPECT_FALSE(rest.rasterDrawn);
   EXPECT_EQ(pipeline.image().pixels, before.pixels);
   request.lens.focusDistance = 3.0f;  // a focus pull: still a pinhole, same raster
   FrameStats focusPull = pipeline.render(request);
-  EXPECT_FALSE(rasterised(focusPull)) << "a settled raster is reused: only the DoF steps run";
+  EXPECT_FALSE(rasterised(focusPull) || focusPull.rasterDrawn)
+      << "a settled raster is reused: only the DoF steps run";
   EXPECT_TRUE(blurred(focusPull)) << "the lens changed: the DoF steps run again";
   double afterFocus = compareImages(pipeline.image(), supersampled()).psnrDb;
   EXPECT_GT(afterFocus, settled - 0.5) << "the focus pull kept the raster's samples";
