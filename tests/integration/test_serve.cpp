@@ -23,24 +23,24 @@ DaemonOptions withConfig(const std::string& mode, const std::string& more = "") 
   return {{}, R"({"mode": ")" + mode + "\"" + (more.empty() ? "" : ", " + more) + "}", {}};
 }
 
-// A daemon whose target_fps (240) no frame here holds: a moving frame renders smaller.
-DaemonOptions interactiveConfig(const std::string& mode) {
-  return withConfig(mode, R"("target_fps": 240, "still_after_ms": 300, "accumulation_frames": 1)");
-}
-
-// A session's welcome and its first frame (acked), at the size asked for.
-struct FirstFrame {
-  nlohmann::json welcome;
-  std::optional<Frame> frame;
-};
-FirstFrame helloAndFirstFrame(net::WsClient& client, uint32_t width, uint32_t height) {
-  FirstFrame first{helloAndWelcome(client, width, height), nextFrame(client)};
-  if (first.frame) {
-    ack(client, first.frame->header.frame);
-    EXPECT_EQ(first.frame->header.width, width);
+// A session of kInteractiveWidth x kInteractiveHeight in `mode`, on a daemon whose target_fps
+// (240) no frame here holds, so that a moving frame renders smaller: its welcome and its first
+// frame (acked).
+constexpr uint32_t kInteractiveWidth = 160, kInteractiveHeight = 96;
+struct InteractiveSession {
+  explicit InteractiveSession(const std::string& mode)
+      : daemon(withConfig(mode, R"("target_fps": 240, "still_after_ms": 300,
+                                   "accumulation_frames": 1)")),
+        client(connectSession(daemon.port())),
+        welcome(helloAndWelcome(*client, kInteractiveWidth, kInteractiveHeight)),
+        first(nextFrame(*client)) {
+    if (first) ack(*client, first->header.frame);
   }
-  return first;
-}
+  Daemon daemon;
+  std::unique_ptr<net::WsClient> client;
+  nlohmann::json welcome;
+  std::optional<Frame> first;
+};
 
 nlohmann::json cameraMessage(const nlohmann::json& welcome, uint32_t seq, float dx) {
   nlohmann::json camera = welcome["camera"];
@@ -255,22 +255,20 @@ TEST(Serve, LowerQualityWhileMovingThenOneStillFrameThenIdle) {
 // Interactive resolution: a moving view renders smaller when its frames take longer than
 // 1 / target_fps, says so in render_scale, and a resting view is full size again.
 TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
-  constexpr uint32_t width = 160, height = 96;
-  Daemon daemon(interactiveConfig("hybrid"));
-  auto client = connectSession(daemon.port());
-  auto [welcome, first] = helloAndFirstFrame(*client, width, height);
-  ASSERT_TRUE(first) << daemon.log();
-  EXPECT_EQ(first->stats["render_scale"], 1.0);
+  InteractiveSession s("hybrid");
+  ASSERT_TRUE(s.first) << s.daemon.log();
+  EXPECT_EQ(s.first->header.width, kInteractiveWidth);
+  EXPECT_EQ(s.first->stats["render_scale"], 1.0);
 
   // The first moving frame teaches the daemon what a pixel costs; the next ones use it.
-  client->sendText(cameraMessage(welcome, 1, 0.05f).dump());
-  std::optional<Frame> moving = frameApplying(*client, 1);
-  ASSERT_TRUE(moving) << daemon.log();
-  client->sendText(cameraMessage(welcome, 2, 0.10f).dump());
-  std::optional<Frame> scaled = frameApplying(*client, 2);
-  ASSERT_TRUE(scaled) << daemon.log();
+  s.client->sendText(cameraMessage(s.welcome, 1, 0.05f).dump());
+  std::optional<Frame> moving = frameApplying(*s.client, 1);
+  ASSERT_TRUE(moving) << s.daemon.log();
+  s.client->sendText(cameraMessage(s.welcome, 2, 0.10f).dump());
+  std::optional<Frame> scaled = frameApplying(*s.client, 2);
+  ASSERT_TRUE(scaled) << s.daemon.log();
   double scale = scaled->stats["render_scale"].get<double>();
-  EXPECT_NEAR(double(scaled->header.width) / width, scale, 0.01);
+  EXPECT_NEAR(double(scaled->header.width) / kInteractiveWidth, scale, 0.01);
   EXPECT_GE(scale, 0.25);
   std::printf("moving frame %.1f ms at full size, the next at render_scale %.3f (%ux%u)\n",
               moving->stats["render_ms"].get<double>(), scale, scaled->header.width,
@@ -282,38 +280,35 @@ TEST(Serve, AMovingViewRendersSmallerToHoldTargetFpsAndFullSizeAtRest) {
 
   // The move ends where the view began: the full-size frame at rest is that view's own, drawn
   // afresh, not the smaller frames' history.
-  client->sendText(cameraMessage(welcome, 3, 0.0f).dump());
+  s.client->sendText(cameraMessage(s.welcome, 3, 0.0f).dump());
   std::optional<Frame> still;
   for (int i = 0; i < 10; ++i) {  // moving frames still on their way, then the resting one
-    still = nextFrame(*client);
-    ASSERT_TRUE(still) << daemon.log();
-    ack(*client, still->header.frame);
+    still = nextFrame(*s.client);
+    ASSERT_TRUE(still) << s.daemon.log();
+    ack(*s.client, still->header.frame);
     if (still->header.seq == 3u && still->stats["render_scale"] == 1.0) break;
   }
-  EXPECT_EQ(still->header.width, width) << "full size at rest";
-  EXPECT_EQ(still->header.height, height);
-  EXPECT_LT(meanAbsoluteDifference(decodeJpeg(first->jpeg), decodeJpeg(still->jpeg)), 2.0);
+  EXPECT_EQ(still->header.width, kInteractiveWidth) << "full size at rest";
+  EXPECT_EQ(still->header.height, kInteractiveHeight);
+  EXPECT_LT(meanAbsoluteDifference(decodeJpeg(s.first->jpeg), decodeJpeg(still->jpeg)), 2.0);
 }
 
 // A focus change on a resting view keeps its size: the raster stands there and only the depth
 // of field is redone, where a smaller frame would draw it again (and show the focus blurred).
 TEST(Serve, AFocusChangeOnARestingViewKeepsItsSize) {
-  constexpr uint32_t width = 160, height = 96;
-  Daemon daemon(interactiveConfig("postprocess"));
-  auto client = connectSession(daemon.port());
-  auto [welcome, first] = helloAndFirstFrame(*client, width, height);
-  ASSERT_TRUE(first) << daemon.log();
-  nlohmann::json lens = welcome["lens"];
+  InteractiveSession s("postprocess");
+  ASSERT_TRUE(s.first) << s.daemon.log();
+  nlohmann::json lens = s.welcome["lens"];
   lens["seq"] = 1;
   lens["focus_distance"] = lens["focus_distance"].get<double>() * 0.8;
-  client->sendText(lens.dump());
-  std::optional<Frame> pulled = frameApplying(*client, 1);
-  ASSERT_TRUE(pulled) << daemon.log();
+  s.client->sendText(lens.dump());
+  std::optional<Frame> pulled = frameApplying(*s.client, 1);
+  ASSERT_TRUE(pulled) << s.daemon.log();
   EXPECT_TRUE(pulled->stats["moving"].get<bool>());
   EXPECT_EQ(pulled->stats["render_scale"], 1.0)
-      << "the first frame took " << first->stats["render_ms"] << " ms";
-  EXPECT_EQ(pulled->header.width, width);
-  EXPECT_GT(meanAbsoluteDifference(decodeJpeg(first->jpeg), decodeJpeg(pulled->jpeg)), 0.1)
+      << "the first frame took " << s.first->stats["render_ms"] << " ms";
+  EXPECT_EQ(pulled->header.width, kInteractiveWidth);
+  EXPECT_GT(meanAbsoluteDifference(decodeJpeg(s.first->jpeg), decodeJpeg(pulled->jpeg)), 0.1)
       << "the focus moved";
 }
 
