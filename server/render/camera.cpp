@@ -75,6 +75,7 @@ gpu::FrameUniforms makeFrameUniforms(const Scene& scene, const Camera& camera, c
   u.samplesPerPixel = settings.samplesPerPixel;
   u.lightCount = static_cast<uint32_t>(scene.lights.size());
   u.pixelJitter = settings.pixelJitter ? 1 : 0;
+  u.znear = camera.znear;
   return u;
 }
 

@@ -21,8 +21,9 @@ struct RayHit {
 
 const float kNoEntry = 1.0 / 0.0;  // +infinity: beyond any hit
 
-// Möller–Trumbore; updates hit when the triangle is closer than hit.t.
-void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit hit) {
+// Möller–Trumbore; updates hit when the triangle lies between tMin and hit.t.
+void intersectTriangle(vec3 origin, vec3 direction, float tMin, uint leafIndex,
+                       inout RayHit hit) {
   vec4 row0 = bvhTriangleRows(leafIndex * 3u);
   vec3 edge1 = bvhTriangleRows(leafIndex * 3u + 1u).xyz;
   vec3 edge2 = bvhTriangleRows(leafIndex * 3u + 2u).xyz;
@@ -37,7 +38,7 @@ void intersectTriangle(vec3 origin, vec3 direction, uint leafIndex, inout RayHit
   float v = dot(direction, q) * inverseDet;
   if (v < 0.0 || u + v > 1.0) return;
   float t = dot(edge2, q) * inverseDet;
-  if (t > 0.0 && t < hit.t) {
+  if (t > tMin && t < hit.t) {
     hit.t = t;
     hit.triangle = floatBitsToUint(row0.w);
     hit.barycentrics = vec2(u, v);
@@ -56,14 +57,14 @@ void sortChildren(inout float entryA, inout uint rankA, inout float entryB, inou
   }
 }
 
-// Entry distances into a node's four child boxes, kNoEntry where the ray misses one, enters it
-// beyond tMax, or the child is empty. Along each axis the ray enters a box through the plane it
+// Entry distances into a node's four child boxes (from tMin), kNoEntry where the ray misses one,
+// leaves it before tMin, enters it beyond tMax, or the child is empty. Along each axis the ray enters a box through the plane it
 // meets first (the low one for a positive direction) and leaves through the other; a plane's
 // distance is q * planeStep + planeZero for its quantised position q, one fused multiply-add.
 // Each axis's slab is widened by the rounding error that this can reach on that axis, so that
 // rounding cannot lose a triangle lying in a face.
 vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
-                   vec3 inverseDirection, float tMax) {
+                   vec3 inverseDirection, float tMin, float tMax) {
   vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
   vec3 gridStep = uintBitsToFloat((row0.xyz & 0xffu) << 23u);
   vec3 planeStep = gridStep * inverseDirection;
@@ -80,16 +81,17 @@ vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
     uint shift = 8u * k;
     vec3 tEnter = vec3((enterPlanes >> shift) & 0xffu) * planeStep + enterZero;
     vec3 tLeave = vec3((leavePlanes >> shift) & 0xffu) * planeStep + leaveZero;
-    float enter = max(max(tEnter.x, tEnter.y), max(tEnter.z, 0.0));
+    float enter = max(max(tEnter.x, tEnter.y), max(tEnter.z, tMin));
     float leave = min(min(tLeave.x, tLeave.y), tLeave.z);
     entries[k] = info[k] != kBvhEmptyChild && enter <= min(leave, tMax) ? enter : kNoEntry;
   }
   return entries;
 }
 
-// Returns true on a hit closer than tMax. `overflowed` reports a full stack (subtrees skipped):
+// Returns true on a hit between tMin (>= 0) and tMax. `overflowed` reports a full stack (subtrees skipped):
 // trees of sane input stay well inside it, so this only guards against bad input.
-bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out bool overflowed) {
+bool traceClosest(vec3 origin, vec3 direction, float tMin, float tMax, out RayHit hit,
+                  out bool overflowed) {
   hit.t = tMax;
   hit.triangle = 0xffffffffu;
   hit.barycentrics = vec2(0.0);
@@ -121,7 +123,7 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
       uvec4 row1 = texelFetch(bvhNodeTexels, int(node * 3u + 1u));
       uvec4 row2 = texelFetch(bvhNodeTexels, int(node * 3u + 2u));
       uvec4 info = (uvec4(row2.z) >> uvec4(0u, 8u, 16u, 24u)) & 0xffu;
-      vec4 entries = enterChildren(row0, row1, row2, info, origin, inverseDirection, hit.t);
+      vec4 entries = enterChildren(row0, row1, row2, info, origin, inverseDirection, tMin, hit.t);
       // Links: interior children are consecutive nodes from the first (their rank among the
       // interior children), leaves' triangles consecutive from the first triangle, both in child
       // order.
@@ -193,8 +195,8 @@ bool traceClosest(vec3 origin, vec3 direction, float tMax, out RayHit hit, out b
     ends.w += ends.z;
     for (uint i = 0u; i < total; ++i) {
       uint leaf = i < ends.x ? 0u : i < ends.y ? 1u : i < ends.z ? 2u : 3u;
-      intersectTriangle(origin, direction, leafFirst[leaf] + i - (ends[leaf] - leafCount[leaf]),
-                        hit);
+      intersectTriangle(origin, direction, tMin,
+                        leafFirst[leaf] + i - (ends[leaf] - leafCount[leaf]), hit);
     }
   }
   return hit.triangle != 0xffffffffu;

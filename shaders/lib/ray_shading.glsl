@@ -10,12 +10,15 @@ struct RaySample {
   vec3 position;  // world position of the hit
 };
 
-// The radiance a ray brings back: its closest hit, shaded, or the sky.
+// The radiance a camera ray (from a point of the lens) brings back: its closest hit beyond the
+// near clipping plane, shaded, or the sky. The plane is the raster's, so that a camera inside or
+// against a wall sees through it in every mode alike.
 RaySample traceCameraRay(vec3 origin, vec3 direction) {
   RaySample result;
   RayHit hit;
   bool overflowed;
-  if (!traceClosest(origin, direction, 1e30, hit, overflowed)) {
+  float tNear = frame.znear / max(dot(direction, frame.forward), 1e-6);
+  if (!traceClosest(origin, direction, tNear, 1e30, hit, overflowed)) {
     result.radiance = frame.skyColor;
     result.specular = vec3(0.0);
     result.distance = 1e30;

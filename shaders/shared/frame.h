@@ -47,7 +47,9 @@ struct FrameUniforms {
   // Frames of this camera and lens before this one (0: a new view, or the lens just changed): a
   // focus pull on a still view has a standing raster (rasterSample) but no resting rays.
   uint stillFrames;
-  uint unused5;
+  // The camera's near clipping plane, metres along the view axis: the raster draws nothing in
+  // front of it, and camera rays hit nothing in front of it either.
+  float znear;
 };
 
 // Which family of per-pixel sample sequences a ray tracer draws from (the salt of

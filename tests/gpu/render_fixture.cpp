@@ -40,6 +40,7 @@ FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   FrameRequest request;
   request.mode = spec.mode;
   request.camera = Camera::fromScene(*sceneCamera);
+  if (spec.znear > 0.0f) request.camera.znear = spec.znear;
   request.lens = onSceneCameraSensor(spec.lens, *sceneCamera, spec.width, spec.height);
   if (request.lens.focusDistance <= 0.0f)
     request.lens.focusDistance = sceneCamera->focusDistance.value_or(5.0f);

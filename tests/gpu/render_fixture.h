@@ -35,6 +35,7 @@ struct RenderSpec {
   bool pixelJitter = true;
   bool traceEverywhere = false;  // hybrid: a full ray mask
   Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
+  float znear = 0.0f;            // the near clipping plane, metres; 0: the scene camera's
 };
 
 // The lens on the sensor on which its focal length frames an image of this size as the scene

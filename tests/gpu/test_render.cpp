@@ -17,8 +17,10 @@ RenderSpec pinholeOf(const std::string& scene, const std::string& camera, uint32
 
 // A reference with a vanishing aperture through pixel centres sees exactly what the raster sees:
 // this checks traversal, shading and camera conventions together.
-void expectRasterMatchesRayTrace(const std::string& scene, const std::string& camera) {
+void expectRasterMatchesRayTrace(const std::string& scene, const std::string& camera,
+                                 float znear = 0.0f) {
   RenderSpec raster = pinholeOf(scene, camera, 320, 180);
+  raster.znear = znear;
   raster.pixelJitter = false;  // no anti-aliasing either
   RenderSpec traced = raster;
   traced.mode = RenderMode::Reference;
@@ -43,6 +45,12 @@ TEST(Render, RasterMatchesPinholeRayTraceOnBuiltinScene) {
 TEST(Render, RasterMatchesPinholeRayTraceOnLivingRoom) {
   expectRasterMatchesRayTrace(kLivingRoom, "closeup");
   expectRasterMatchesRayTrace(kLivingRoom, "overview");
+}
+
+// A camera against a wall (or inside an object) sees past what lies in front of its near plane,
+// in the raster and in the rays alike: here the plane cuts through the nearest objects.
+TEST(Render, RaysHitNothingInFrontOfTheNearPlane) {
+  expectRasterMatchesRayTrace("builtin:dof", "default", 3.0f);
 }
 
 TEST(Render, ReferenceConvergesAsRaysGrow) {
