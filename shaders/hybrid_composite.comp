@@ -26,6 +26,8 @@ layout(set = 1, binding = 5, rgba16f) uniform readonly image2D postProcess;
 layout(set = 1, binding = 6, rgba16f) uniform readonly image2D historyNear;
 layout(set = 1, binding = 7, rgba16f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
+// Per tile, whether a near-field blur wider than the tile dilation reaches it (ray_mask_far.comp).
+layout(set = 1, binding = 10, r16f) uniform readonly image2D farTiles;
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
@@ -68,7 +70,12 @@ void main() {
   // mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
   // post-process after 32 of its own: handed over by then, it made a resting view worse for a
   // while.
-  float trust = clamp(far.a / kHybridTrustedRays, 0.0, 1.0);
+  // Where the lens blurs wider than the post-process renders (its own CoC, or a near-field blur
+  // reaching the tile, beyond kDofMaxCoc), the post-process is wrong by far more than a few rays'
+  // noise: the traced colour from the first ray.
+  bool beyondPostProcess = abs(coc) > kDofMaxCoc ||
+                           imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0;
+  float trust = beyondPostProcess ? 1.0 : clamp(far.a / kHybridTrustedRays, 0.0, 1.0);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced

@@ -1,5 +1,7 @@
 // Ray mask (stage 3), spread along columns and ray counts: a pixel is within an edge's disc when a
-// pixel of its column reaches it (see ray_mask_spread.comp). Rays where an edge needs them or where
+// pixel of its column reaches it (see ray_mask_spread.comp), or when its tile is one that a disc
+// wider than the tile dilation reaches (ray_mask_far.comp; the sharper side of such an edge taken
+// to be the pixel's own CoC). Rays where an edge needs them or where
 // the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many as
 // the strongest edge asks for while the pixel is new to the mask, then as many as the variance of
 // its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their history to
@@ -31,6 +33,8 @@ layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 3) uniform sampler2D variance;
 layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
 HDOF_RAY_WORK_LIST(5, coherent);
+layout(set = 1, binding = 6, r16f) uniform readonly image2D farTiles;
+layout(set = 1, binding = 7, rgba32f) uniform readonly image2D normalDepth;
 
 layout(push_constant) uniform Push {
   uint everywhere;  // 1: every pixel gets the full rays
@@ -38,7 +42,7 @@ layout(push_constant) uniform Push {
 
 // The pixel's rays this frame.
 uint rayCount(ivec2 pixel, ivec2 size) {
-  int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
+  int radius = searchRadius(imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x);
   bool nearEdge = false;
   float strongest = 0.0;
   float sharpest = kDofMaxCoc;
@@ -49,6 +53,13 @@ uint rayCount(ivec2 pixel, ivec2 size) {
       strongest = max(strongest, row.y);
       sharpest = min(sharpest, row.z);
     }
+  }
+  // A loop rather than an if: lavapipe runs an if's body whatever its lanes' conditions, but skips
+  // a loop that no lane enters, and most tiles are reached by no such disc.
+  for (bool far = imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0; far; far = false) {
+    nearEdge = true;
+    strongest = 1.0;
+    sharpest = min(sharpest, abs(signedCoc(imageLoad(normalDepth, pixel).w)));
   }
   vec2 history = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).rg;
   float noise = history.x;

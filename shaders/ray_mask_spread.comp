@@ -2,8 +2,9 @@
 // by a disc of its own radius R (half its reach). A pixel p is within R of an edge pixel e exactly
 // when |p.y - e.y| <= sqrt(R^2 - (p.x - e.x)^2), so each pixel keeps the largest such half height
 // over the edge pixels of its row (x; -1: none), their strongest edge (y) and the smallest |CoC| of
-// their sharper sides (z). The pixel's dilated
-// tile bounds the search: all of an 8x8 workgroup lies in one tile, so the loop is uniform.
+// their sharper sides (z). The pixel's dilated tile bounds the search (all of an 8x8 workgroup lies
+// in one tile, so the loop is uniform), as far as the tile dilation reaches: wider discs reach
+// the tiles beyond as ray_mask_far.comp marks them.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -20,7 +21,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(frame.imageSize);
   if (any(greaterThanEqual(pixel, size))) return;
-  int radius = int(ceil(0.5 * imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x));
+  int radius = searchRadius(imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x);
   float halfHeight = -1.0;
   float strongest = 0.0;
   float sharpest = kDofMaxCoc;

@@ -72,6 +72,8 @@ RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context
   strength = batch.make(w, h, kPair, "ray mask strength");
   tiles = makeTiles(batch, w, h, kColor, "ray mask tiles");
   dilatedTiles = makeTiles(batch, w, h, kPair, "ray mask dilated tiles");
+  farRows = makeTiles(batch, w, h, kScalar, "ray mask far rows");
+  farTiles = makeTiles(batch, w, h, kScalar, "ray mask far tiles");
   spread = batch.make(w, h, kColor, "ray mask spread");
   rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
   workList = gpu::Buffer(context,

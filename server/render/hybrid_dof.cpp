@@ -90,7 +90,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"historyNear", h.reconstructedNear},
                     {"historyFar", h.reconstructedFar},
                     {"outColor", h.output},
-                    {"workList", m.workList}},
+                    {"workList", m.workList},
+                    {"farTiles", m.farTiles}},
                    Grid::indirect(m.workList));
   } else {
     steps.dispatch(debugView_,

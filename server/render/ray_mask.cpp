@@ -14,6 +14,8 @@ RayMask::RayMask(const gpu::Context& context)
       tiles_(context, "dof_tiles.comp"),
       dilate_(context, "dof_dilate.comp"),
       spread_(context, "ray_mask_spread.comp"),
+      farRows_(context, "ray_mask_far.comp", nullptr, {{"kColumns", 0}}),
+      farColumns_(context, "ray_mask_far.comp", nullptr, {{"kColumns", 1}}),
       rays_(context, "ray_mask_rays.comp"),
       indirect_(context, "ray_mask_indirect.comp"),
       noVarianceBatch_(context),
@@ -36,6 +38,10 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
                    reachChannel, "ray_mask_tiles");
     steps.dispatch(dilate_, {{"tiles", m.tiles}, {"dilated", m.dilatedTiles}},
                    Grid::over(m.dilatedTiles), {}, "ray_mask_dilate");
+    steps.dispatch(farRows_, {{"source", m.tiles}, {"result", m.farRows}}, Grid::over(m.farRows),
+                   {}, "ray_mask_far_rows");
+    steps.dispatch(farColumns_, {{"source", m.farRows}, {"result", m.farTiles}},
+                   Grid::over(m.farTiles), {}, "ray_mask_far_columns");
     steps.dispatch(spread_,
                    {{"reach", m.reach},
                     {"strength", m.strength},
@@ -49,7 +55,9 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
                   {"dilatedTiles", m.dilatedTiles},
                   {"variance", varianceOrNull ? *varianceOrNull : noVariance_},
                   {"rays", m.rays},
-                  {"workList", m.workList}},
+                  {"workList", m.workList},
+                  {"farTiles", m.farTiles},
+                  {"normalDepth", g.normalDepth}},
                  Grid::over(m.rays), everywhereFlag);
   // The count is final only once every workgroup has appended.
   steps.dispatch(indirect_, {{"workList", m.workList}}, Grid::threads(1));

@@ -3,7 +3,8 @@
 // pixel by that side's CoC disc (where partial occlusion shows), plus where the ray-traced
 // output's luminance variance is high. Steps (shaders/ray_mask_*.comp, and the post-process's
 // tile max and dilation run on the edges' reach): clear (the list's header), edges, tiles,
-// dilate, spread, rays, compact, indirect, readback (the header, for the frame's stats). Ends
+// dilate, far rows and columns (discs wider than the dilation reaches, per tile), spread, rays
+// (which also lists the pixels), indirect, readback (the header, for the frame's stats). Ends
 // with a compacted work list of those pixels and its indirect dispatch arguments.
 #pragma once
 
@@ -37,6 +38,7 @@ class RayMask {
   // The post-process's tile max and tile dilation, run on the edges' reach: per tile, the
   // largest disc that can cover a pixel of it, which bounds the dilation's search there.
   gpu::ComputeProgram tiles_, dilate_;
+  gpu::ComputeProgram farRows_, farColumns_;
   gpu::ComputeProgram spread_, rays_, indirect_;
   gpu::ImageBatch noVarianceBatch_;
   gpu::Image noVariance_;  // r16f, 1x1, zero

@@ -37,6 +37,12 @@ int gatherRings(float tileCoc) {
 }
 float ringSpacing(float tileCoc) { return tileCoc * 0.25 / float(gatherRings(tileCoc)); }
 
+// How far (pixels) to look for discs that may cover a pixel of a tile whose dilation found discs of
+// up to this diameter: no farther than the dilation looks.
+int searchRadius(float dilatedDiameter) {
+  return min(int(ceil(0.5 * dilatedDiameter)), kDofTileReach * int(kDofTileSize));
+}
+
 // The dilated tile (x: largest |CoC|, y: nearest CoC) of a half-resolution pixel.
 ivec2 tileOfHalfResPixel(ivec2 pixel) { return pixel / int(kDofTileSize / 2u); }
 

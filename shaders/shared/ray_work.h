@@ -41,6 +41,10 @@ HDOF_CONST float kRayMaskDenseCoc = 4.0;
 // An edge of the resting view's raster crosses a pixel when a neighbour's normal turns from the
 // pixel's by more than this cosine, or its depth jumps by kRayMaskDepthJumpLow.
 HDOF_CONST float kRayMaskCrossedNormal = 0.9;
+// The widest disc (diameter, pixels) that a near-field edge gets rays over. The post-process
+// renders blurs up to kDofMaxCoc; a near object closer to the lens blurs wider, and only rays show
+// how far (ray_mask_far.comp marks the tiles such discs reach beyond the pixel dilation's).
+HDOF_CONST float kRayMaskFarReach = 512.0;
 // The widest band (pixels) traced beside an in-focus silhouette over a blurred background.
 HDOF_CONST float kRayMaskSilhouetteReach = 8.0;
 // Luminance variance of one ray of the ray-traced output (hybrid_temporal.comp) above which a

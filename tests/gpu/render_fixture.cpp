@@ -41,6 +41,14 @@ FrameRequest requestFor(const RenderSpec& spec, const Scene& scene) {
   request.mode = spec.mode;
   request.camera = Camera::fromScene(*sceneCamera);
   if (spec.znear > 0.0f) request.camera.znear = spec.znear;
+  if (spec.eye && spec.target) {
+    Camera& camera = request.camera;
+    camera.position = *spec.eye;
+    camera.forward = glm::normalize(*spec.target - *spec.eye);
+    camera.up =
+        glm::normalize(glm::vec3(0.0f, 1.0f, 0.0f) -
+                       camera.forward * glm::dot(camera.forward, glm::vec3(0.0f, 1.0f, 0.0f)));
+  }
   request.lens = onSceneCameraSensor(spec.lens, *sceneCamera, spec.width, spec.height);
   if (request.lens.focusDistance <= 0.0f)
     request.lens.focusDistance = sceneCamera->focusDistance.value_or(5.0f);

@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace hdof::test {
@@ -36,6 +37,8 @@ struct RenderSpec {
   bool traceEverywhere = false;  // hybrid: a full ray mask
   Lens lens{50.0f, 2.8f, 0.0f};  // focus distance 0: the camera's suggestion, else 5 m
   float znear = 0.0f;            // the near clipping plane, metres; 0: the scene camera's
+  // The scene camera moved to look from eye at target (y up), when given.
+  std::optional<glm::vec3> eye, target;
 };
 
 // The lens on the sensor on which its focal length frames an image of this size as the scene
