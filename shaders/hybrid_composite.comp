@@ -70,11 +70,10 @@ void main() {
   // mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
   // post-process after 32 of its own: handed over by then, it made a resting view worse for a
   // while.
-  // Where the lens blurs wider than the post-process renders (its own CoC, or a near-field blur
-  // reaching the tile, beyond kDofMaxCoc), the post-process is wrong by far more than a few rays'
+  // Where a near-field blur wider than the post-process renders (kDofMaxCoc) reaches, the
+  // post-process shows a near object too narrow and too solid, wrong by far more than a few rays'
   // noise: the traced colour from the first ray.
-  bool beyondPostProcess = abs(coc) > kDofMaxCoc ||
-                           imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0;
+  bool beyondPostProcess = imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0;
   float trust = beyondPostProcess ? 1.0 : clamp(far.a / kHybridTrustedRays, 0.0, 1.0);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {

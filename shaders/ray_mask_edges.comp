@@ -5,9 +5,9 @@
 // dividing by the nearest inverse depth makes the jump relative, so edges count at every distance.
 // Only edges whose near side is out of focus need rays (partial occlusion), within that side's CoC
 // radius: `reach` is that diameter (0: no rays needed), `strength` how strong the edge is and the
-// |CoC| of its sharper side (how fine the detail its rays see can be: rays by CoC). A near side
-// blurred wider than the post-process's largest blur (kDofMaxCoc) reaches as far as the lens
-// blurs it (up to kRayMaskFarReach), and a pixel blurred that wide itself gets rays. In the
+// |CoC| of its sharper side (how fine the detail its rays see can be: rays by CoC). A near side in
+// the near field blurred wider than the post-process's largest blur (kDofMaxCoc) reaches as far
+// as the lens blurs it (up to kRayMaskFarReach): only rays show what lies behind it there. In the
 // far field only depth edges with a wide enough blur count: creases of a surface and small
 // background blurs are the post-process's, except while the view rests, when every edge whose blur
 // spans a pixel gets rays so that a still frame converges to the lens's image, and so do the
@@ -42,8 +42,7 @@ void main() {
   float farthestInverse = 1e4;  // and its far side
   // The same over the pixel's 3x3 neighbourhood, and the normals' least agreement with its own.
   float innerNearest = 0.0, innerFarthest = 1e4, innerNormals = 1.0;
-  vec4 own = imageLoad(normalDepth, pixel);
-  vec3 ownNormal = own.xyz;
+  vec3 ownNormal = imageLoad(normalDepth, pixel).xyz;
   [[unroll]] for (int dy = -2; dy <= 2; ++dy) {
     [[unroll]] for (int dx = -2; dx <= 2; ++dx) {
       vec4 texel = imageLoad(normalDepth, clamp(pixel + ivec2(dx, dy), ivec2(0), size - 1));
@@ -74,7 +73,9 @@ void main() {
   // The band the kernel marks is 2 px to each side of the true edge; the margin keeps rays over
   // the whole blur of the near side from any pixel of the band.
   bool needsRays = edge > 0.0 && nearCoc >= kDofFocusZone;
-  float diameter = needsRays ? min(nearBlur + 2.0, kRayMaskFarReach) : 0.0;
+  float diameter = !needsRays            ? 0.0
+                   : nearSideCoc < 0.0 ? min(nearBlur + 2.0, kRayMaskFarReach)
+                                       : min(nearCoc + 2.0, kDofMaxCoc);
   // An in-focus silhouette over a blurred background: the background beside it is partly hidden
   // behind it for the lens, and the silhouette's own pixels mix it with that blur. Rays over
   // the background's blur radius from the edge, at most kRayMaskSilhouetteReach.
@@ -99,12 +100,6 @@ void main() {
   if (!needsRays && frame.rasterSample > 0u && max(depthEdge, normalEdge) > 0.0 && crossed) {
     needsRays = true;
     edge = max(depthEdge, normalEdge);
-    diameter = 1.0;
-  }
-  // A blur wider than the post-process renders, on the pixel itself.
-  if (!needsRays && abs(pixelCoc(own.w)) > kDofMaxCoc) {
-    needsRays = true;
-    edge = 1.0;
     diameter = 1.0;
   }
   imageStore(reach, pixel, vec4(diameter));
