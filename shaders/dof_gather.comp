@@ -17,6 +17,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
+#include "lib/sampling.glsl"
 
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D prefiltered;  // a: CoC
 layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
@@ -76,12 +77,15 @@ void accumulate(vec4 tap, float distance, float angle, bool withNear, bool polyg
 
 void gatherRings(ivec2 pixel, int rings, float spacing, bool withNear, bool polygon) {
   ivec2 last = imageSize(prefiltered) - 1;
+  float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
   for (int ring = 1; ring <= rings; ++ring) {
     int count = 8 * ring;
     float step = 2.0 * kPi / float(count);
     vec2 rotation = vec2(cos(step), sin(step));
-    // Odd and even rings are staggered by half a step, so taps do not line up radially.
-    float angle = (ring & 1) == 0 ? 0.5 * step : 0.0;
+    // Odd and even rings are staggered by half a step, so taps do not line up radially, and the
+    // kernel is turned per pixel: a small bright detail spread by a few taps shows as noise,
+    // which the median removes, rather than as the kernel's pattern of rings.
+    float angle = ((ring & 1) == 0 ? 0.5 : 0.0) * step + turn * step;
     vec2 direction = vec2(cos(angle), sin(angle));
     float radius = float(ring) * spacing;
     for (int i = 0; i < count; ++i) {
