@@ -72,7 +72,9 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
     for (size_t i = 0; i < size_t(kWidth) * kHeight; ++i) {
       glm::vec2 pair = glm::unpackHalf2x16(pairs[i]);
       variances.push_back(pair.x);
-      if (moments[i].z > 0.0f) EXPECT_EQ(pair.y, moments[i].z) << "the rays accumulated";
+      if (moments[i].z > 0.0f) {
+        EXPECT_EQ(pair.y, moments[i].z) << "the rays accumulated";
+      }
     }
   }
   for (size_t i = 0; i < moments.size(); ++i) {
@@ -240,7 +242,9 @@ TEST(HybridMode, ARestingViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
   auto edges = [&](RenderMode mode = RenderMode::Hybrid) {
     request.mode = mode;
     FrameStats stats = pipeline.render(request);
-    if (mode == RenderMode::Hybrid) EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
+    if (mode == RenderMode::Hybrid) {
+      EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
+    }
     return std::any_of(stats.passMs.begin(), stats.passMs.end(),
                        [](const auto& pass) { return pass.first == "ray_mask_edges"; });
   };

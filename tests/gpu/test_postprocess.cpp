@@ -371,9 +371,10 @@ TEST(PostProcess, EachTileGoesToTheListOfTheBlursItNeeds) {
         ASSERT_LT(ty, tilesY);
         ++listed[size_t(ty) * tilesX + tx];
         bool nearInReach = dilated[size_t(ty) * tilesX + tx].y <= -gpu::kDofFocusZone;
-        if (list != gpu::kDofListLayers)
+        if (list != gpu::kDofListLayers) {
           EXPECT_EQ(nearInReach, list == gpu::kDofListNear)
               << "f/" << fNumber << " tile " << tx << "," << ty << " list " << list;
+        }
         int tile = int(gpu::kDofTileSize);
         for (int y = ty * tile - 2; y < (ty + 1) * tile + 2; ++y)
           for (int x = tx * tile - 2; x < (tx + 1) * tile + 2; ++x) {
