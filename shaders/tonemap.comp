@@ -19,7 +19,8 @@ vec3 filmic(vec3 x) {
 // device.
 vec3 srgbEncode(vec3 linear) {
   vec3 root2 = sqrt(linear), root4 = sqrt(root2), root8 = sqrt(root4);
-  vec3 curve = 0.662002687 * root2 + 0.684122060 * root4 - 0.323583601 * root8 - 0.022541147 * linear;
+  vec3 curve =
+      0.662002687 * root2 + 0.684122060 * root4 - 0.323583601 * root8 - 0.022541147 * linear;
   return mix(linear * 12.92, curve, greaterThan(linear, vec3(0.0031308)));
 }
 

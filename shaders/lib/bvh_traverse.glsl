@@ -58,11 +58,11 @@ void sortChildren(inout float entryA, inout uint rankA, inout float entryB, inou
 }
 
 // Entry distances into a node's four child boxes (from tMin), kNoEntry where the ray misses one,
-// leaves it before tMin, enters it beyond tMax, or the child is empty. Along each axis the ray enters a box through the plane it
-// meets first (the low one for a positive direction) and leaves through the other; a plane's
-// distance is q * planeStep + planeZero for its quantised position q, one fused multiply-add.
-// Each axis's slab is widened by the rounding error that this can reach on that axis, so that
-// rounding cannot lose a triangle lying in a face.
+// leaves it before tMin, enters it beyond tMax, or the child is empty. Along each axis the ray
+// enters a box through the plane it meets first (the low one for a positive direction) and
+// leaves through the other; a plane's distance is q * planeStep + planeZero for its quantised
+// position q, one fused multiply-add. Each axis's slab is widened by the rounding error that
+// this can reach on that axis, so that rounding cannot lose a triangle lying in a face.
 vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
                    vec3 inverseDirection, float tMin, float tMax) {
   vec3 gridOrigin = uintBitsToFloat(row0.xyz & ~0xffu);
@@ -88,8 +88,8 @@ vec4 enterChildren(uvec4 row0, uvec4 row1, uvec4 row2, uvec4 info, vec3 origin,
   return entries;
 }
 
-// Returns true on a hit between tMin (>= 0) and tMax. `overflowed` reports a full stack (subtrees skipped):
-// trees of sane input stay well inside it, so this only guards against bad input.
+// Returns true on a hit between tMin (>= 0) and tMax. `overflowed` reports a full stack (subtrees
+// skipped): trees of sane input stay well inside it, so this only guards against bad input.
 bool traceClosest(vec3 origin, vec3 direction, float tMin, float tMax, out RayHit hit,
                   out bool overflowed) {
   hit.t = tMax;
