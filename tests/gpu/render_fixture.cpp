@@ -75,6 +75,13 @@ ImageRgba8 renderImage(const RenderSpec& spec) {
   return pipeline.image();
 }
 
+ImageRgba8 renderImage(RenderSpec spec, RenderMode mode, uint32_t rays, uint32_t frames) {
+  spec.mode = mode;
+  spec.raysPerPixel = rays;
+  spec.frames = frames;
+  return renderImage(spec);
+}
+
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut) {
   SceneOnGpu& scene = testScene(spec.scene);
   FrameRequest request = requestFor(spec, scene.scene);

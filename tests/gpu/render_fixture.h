@@ -49,6 +49,9 @@ Lens onSceneCameraSensor(Lens lens, const SceneCamera& camera, uint32_t width, u
 // The frame request of the spec's first frame, its lens on the scene camera's sensor.
 FrameRequest requestFor(const RenderSpec& spec, const Scene& scene);
 ImageRgba8 renderImage(const RenderSpec& spec);
+// The spec's view in `mode`, with `rays` per pixel (reference: in all; else each frame) over
+// `frames` frames of a still camera.
+ImageRgba8 renderImage(RenderSpec spec, RenderMode mode, uint32_t rays = 1, uint32_t frames = 1);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
 

@@ -202,12 +202,8 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   spec.width = 192;
   spec.height = 108;
   spec.lens.fNumber = 1.4f;
-  spec.mode = RenderMode::PostProcess;
-  ImageRgba8 postProcess = renderImage(spec);
-  spec.mode = RenderMode::Hybrid;
-  spec.raysPerPixel = 2;
-  spec.frames = 3;
-  ImageRgba8 hybrid = renderImage(spec);
+  ImageRgba8 postProcess = renderImage(spec, RenderMode::PostProcess);
+  ImageRgba8 hybrid = renderImage(spec, RenderMode::Hybrid, 2, 3);
   double psnr = compareImages(hybrid, postProcess).psnrDb;
   EXPECT_GT(psnr, 20.0) << "the hybrid starts from the post-process";
   EXPECT_LT(psnr, 60.0) << "and traces rays where the mask asks";
@@ -273,12 +269,7 @@ RenderSpec wideOpen() {
 }
 
 const ImageRgba8& wideOpenReference() {
-  static const ImageRgba8 reference = [] {
-    RenderSpec spec = wideOpen();
-    spec.mode = RenderMode::Reference;
-    spec.raysPerPixel = 256;
-    return renderImage(spec);
-  }();
+  static const ImageRgba8 reference = renderImage(wideOpen(), RenderMode::Reference, 256);
   return reference;
 }
 
@@ -292,12 +283,10 @@ TEST(HybridMode, BeatsThePostProcessWhereItMustInventTheBackground) {
   RenderSpec spec = wideOpen();
   ImageRgba8 region = maskImage(occlusionRegion(spec), spec.width, spec.height);
   const ImageRgba8& reference = wideOpenReference();
-  spec.mode = RenderMode::PostProcess;
-  double postProcess = compareImages(renderImage(spec), reference, &region).psnrDb;
-  spec.mode = RenderMode::Hybrid;
-  spec.raysPerPixel = 4;
-  spec.frames = 16;
-  double hybrid = compareImages(renderImage(spec), reference, &region).psnrDb;
+  double postProcess =
+      compareImages(renderImage(spec, RenderMode::PostProcess), reference, &region).psnrDb;
+  double hybrid =
+      compareImages(renderImage(spec, RenderMode::Hybrid, 4, 16), reference, &region).psnrDb;
   std::printf("occlusion region: postprocess %.2f dB, hybrid %.2f dB\n", postProcess, hybrid);
   EXPECT_GT(hybrid, postProcess + 3.0);
 }
@@ -308,11 +297,8 @@ TEST(HybridMode, FirstFrameIsAtLeastAsGoodAsThePostProcess) {
   RenderSpec spec = wideOpen();
   ImageRgba8 region = maskImage(occlusionRegion(spec), spec.width, spec.height);
   const ImageRgba8& reference = wideOpenReference();
-  spec.mode = RenderMode::PostProcess;
-  ImageRgba8 postProcess = renderImage(spec);
-  spec.mode = RenderMode::Hybrid;
-  spec.raysPerPixel = 4;
-  ImageRgba8 hybrid = renderImage(spec);
+  ImageRgba8 postProcess = renderImage(spec, RenderMode::PostProcess);
+  ImageRgba8 hybrid = renderImage(spec, RenderMode::Hybrid, 4);
   auto [ppWhole, ppRegion] = psnrOf(postProcess, reference, region);
   auto [hybridWhole, hybridRegion] = psnrOf(hybrid, reference, region);
   std::printf(
@@ -329,15 +315,10 @@ TEST(HybridMode, AStillViewKeepsImproving) {
   // gives them fewer rays.
   RenderSpec spec = wideOpen();
   spec.lens.fNumber = 0.7f;
-  spec.mode = RenderMode::Reference;
-  spec.raysPerPixel = 256;
-  const ImageRgba8 reference = renderImage(spec);
-  spec.mode = RenderMode::Hybrid;
-  spec.raysPerPixel = 4;
+  const ImageRgba8 reference = renderImage(spec, RenderMode::Reference, 256);
   double previous = 0.0;
   for (uint32_t frames : {8u, 16u, 20u, 24u, 32u}) {
-    spec.frames = frames;
-    double psnr = compareImages(renderImage(spec), reference).psnrDb;
+    double psnr = compareImages(renderImage(spec, RenderMode::Hybrid, 4, frames), reference).psnrDb;
     std::printf("hybrid, %u frames: %.2f dB\n", frames, psnr);
     EXPECT_GE(psnr, previous - 0.05) << frames << " frames";
     previous = psnr;
@@ -350,11 +331,7 @@ TEST(HybridMode, AStillViewKeepsImproving) {
 // while the rays counted only from 32 of them on).
 TEST(HybridMode, AStillViewsRaysCountAsSamplesFromItsFirstFrames) {
   auto psnrAfter4Frames = [](RenderMode mode) {
-    RenderSpec spec = wideOpen();
-    spec.mode = mode;
-    spec.raysPerPixel = 4;
-    spec.frames = 4;
-    return compareImages(renderImage(spec), wideOpenReference()).psnrDb;
+    return compareImages(renderImage(wideOpen(), mode, 4, 4), wideOpenReference()).psnrDb;
   };
   double rayTrace = psnrAfter4Frames(RenderMode::RayTrace);
   double hybrid = psnrAfter4Frames(RenderMode::Hybrid);
@@ -406,15 +383,9 @@ TEST(HybridMode, ANearBlurWiderThanThePostProcessRendersIsTraced) {
   spec.height = 108;
   spec.lens = Lens{50.0f, 1.4f, 4.0f};
   ImageRgba8 region = maskImage(occlusionRegion(spec), spec.width, spec.height);
-  spec.mode = RenderMode::Reference;
-  spec.raysPerPixel = 128;
-  const ImageRgba8 reference = renderImage(spec);
-  spec.mode = RenderMode::PostProcess;
-  ImageRgba8 postProcess = renderImage(spec);
-  spec.mode = RenderMode::Hybrid;
-  spec.raysPerPixel = 4;
-  spec.frames = 8;
-  ImageRgba8 hybrid = renderImage(spec);
+  const ImageRgba8 reference = renderImage(spec, RenderMode::Reference, 128);
+  ImageRgba8 postProcess = renderImage(spec, RenderMode::PostProcess);
+  ImageRgba8 hybrid = renderImage(spec, RenderMode::Hybrid, 4, 8);
   auto [ppWhole, ppRegion] = psnrOf(postProcess, reference, region);
   auto [hybridWhole, hybridRegion] = psnrOf(hybrid, reference, region);
   std::printf(
@@ -430,13 +401,9 @@ TEST(HybridMode, ANearBlurWiderThanThePostProcessRendersIsTraced) {
 TEST(HybridMode, WithAFullMaskMatchesRayTrace) {
   RenderSpec spec = wideOpen();
   const ImageRgba8& reference = wideOpenReference();
-  spec.raysPerPixel = 4;
-  spec.frames = 16;
-  spec.mode = RenderMode::RayTrace;
-  ImageRgba8 rayTrace = renderImage(spec);
-  spec.mode = RenderMode::Hybrid;
+  ImageRgba8 rayTrace = renderImage(spec, RenderMode::RayTrace, 4, 16);
   spec.traceEverywhere = true;
-  ImageRgba8 hybrid = renderImage(spec);
+  ImageRgba8 hybrid = renderImage(spec, RenderMode::Hybrid, 4, 16);
   double rayTraceDb = compareImages(rayTrace, reference).psnrDb;
   double hybridDb = compareImages(hybrid, reference).psnrDb;
   double betweenDb = compareImages(hybrid, rayTrace).psnrDb;
@@ -447,7 +414,7 @@ TEST(HybridMode, WithAFullMaskMatchesRayTrace) {
   EXPECT_GT(hybridDb, rayTraceDb - 1.0);
   EXPECT_GT(betweenDb, 30.0);
   spec.traceEverywhere = false;
-  EXPECT_LT(compareImages(renderImage(spec), reference).psnrDb, hybridDb)
+  EXPECT_LT(compareImages(renderImage(spec, RenderMode::Hybrid, 4, 16), reference).psnrDb, hybridDb)
       << "the mask leaves pixels to the post-process";
 }
 
