@@ -68,7 +68,10 @@ uint ownerOfRay(uint ray, uint firstRay) {
 // last lane of a run ends with the run's sum.
 LayerSums sumRuns(LayerSums sums, uint owner) {
   for (uint offset = 1u; offset < gl_SubgroupSize; offset *= 2u) {
-    bool sameRun = gl_SubgroupInvocationID >= offset && subgroupShuffleUp(owner, offset) == owner;
+    // Every lane shuffles: behind `&&` the lanes below offset would skip it, and a lane does not
+    // read the value of one that skipped it.
+    uint ownerBelow = subgroupShuffleUp(owner, offset);
+    bool sameRun = gl_SubgroupInvocationID >= offset && ownerBelow == owner;
     vec4 near = subgroupShuffleUp(sums.near, offset);
     vec4 far = subgroupShuffleUp(sums.far, offset);
     vec4 farPosition = subgroupShuffleUp(sums.farPosition, offset);
