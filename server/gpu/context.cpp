@@ -274,11 +274,14 @@ Context::Context(const ContextOptions& options) {
   samplerInfo.addressModeU = samplerInfo.addressModeV = samplerInfo.addressModeW =
       VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   VK_CHECK(vkCreateSampler(device_, &samplerInfo, nullptr, &nearestSampler_));
+  VkPipelineCacheCreateInfo cacheInfo{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+  VK_CHECK(vkCreatePipelineCache(device_, &cacheInfo, nullptr, &pipelineCache_));
 }
 
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    vkDestroyPipelineCache(device_, pipelineCache_, nullptr);
     vkDestroySampler(device_, nearestSampler_, nullptr);
     vkDestroyCommandPool(device_, commandPool_, nullptr);
     vkDestroyDevice(device_, nullptr);

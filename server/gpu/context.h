@@ -37,6 +37,9 @@ class Context {
   bool timestampsSupported() const { return timestampsSupported_; }
   // Reads texels as they are (nearest, clamped): how every pass samples the images of a frame.
   VkSampler nearestSampler() const { return nearestSampler_; }
+  // Compiled pipelines, kept for the process: each session's pipelines after the first come from
+  // it rather than from the driver's compiler.
+  VkPipelineCache pipelineCache() const { return pipelineCache_; }
 
   // Records commands into a fresh command buffer, submits it and waits for it to finish.
   void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
@@ -65,6 +68,7 @@ class Context {
   uint32_t queueFamily_ = 0;
   VkCommandPool commandPool_ = VK_NULL_HANDLE;
   VkSampler nearestSampler_ = VK_NULL_HANDLE;
+  VkPipelineCache pipelineCache_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
   bool timestampsSupported_ = false;

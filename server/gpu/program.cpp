@@ -201,8 +201,8 @@ ComputeProgram::ComputeProgram(const Context& context, const std::string& shader
   if (!entries.empty()) info.stage.pSpecializationInfo = &specialization;
   info.layout = layout_.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(
-      vkCreateComputePipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  VK_CHECK(vkCreateComputePipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
+                                    &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), shaderName);
   pipeline_ = Pipeline(context.device(), pipeline);
 }

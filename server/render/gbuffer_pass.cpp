@@ -154,8 +154,8 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
   info.layout = layout_.get();
   info.renderPass = renderPass_;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(
-      vkCreateGraphicsPipelines(context.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+  VK_CHECK(vkCreateGraphicsPipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
+                                     &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), "gbuffer");
   pipeline_ = gpu::Pipeline(context.device(), pipeline);
 }
