@@ -80,8 +80,12 @@ uint rayCount(ivec2 pixel, ivec2 size) {
   // composite already shows as traced alone (kHybridTrustedRays) gets the full rays. Before that,
   // more rays would only hand a pixel that the variance gave few over to its traced colour
   // sooner, while it is still noisier than the post-process.
+  // A pixel the mask leaves out gets a ray a frame: the post-process is not the lens's image
+  // either (its blurs approximate, its in-focus edges have the raster's samples alone), and with
+  // the rays a resting view goes on converging to the traced image instead of stopping there.
   bool trusted = history.y >= kHybridTrustedRays;
   if (push.everywhere != 0u || resting && trusted && count > 0u) count = samples;
+  if (resting && count == 0u) count = 1u;
   return count;
 }
 
