@@ -21,8 +21,8 @@ HDOF_RAY_WORK_LIST(1, readonly);
 layout(set = 1, binding = 2, r8ui) uniform readonly uimage2D rays;  // rays traced this frame
 layout(set = 1, binding = 3, rg16f) uniform readonly image2D layerCoc;  // near |CoC|, far CoC
 // Near: colour x ratio, ratio; far: colour x (1 - ratio), rays; moments: m1, m2, rays, depth.
-layout(set = 1, binding = 4, rgba16f) uniform readonly image2D historyNear;
-layout(set = 1, binding = 5, rgba16f) uniform readonly image2D historyFar;
+layout(set = 1, binding = 4, rgba32f) uniform readonly image2D historyNear;
+layout(set = 1, binding = 5, rgba32f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 6, rgba32f) uniform readonly image2D historyMoments;
 layout(set = 1, binding = 7, rg16f) uniform readonly image2D variance;  // of one ray, rays
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;

@@ -25,8 +25,8 @@ layout(set = 1, binding = 6, rgba32f) uniform readonly image2D normalDepth;  // 
 // far by one minus it), so that frames in which a layer got no rays count as its absence, not
 // as black, and near + far is the pixel's colour; the near alpha is the accumulated hit ratio.
 // Near: colour x ratio, ratio; far: colour x (1 - ratio), rays; moments: m1, m2, rays, depth.
-layout(set = 1, binding = 7, rgba16f) uniform readonly image2D historyNear;
-layout(set = 1, binding = 8, rgba16f) uniform readonly image2D historyFar;
+layout(set = 1, binding = 7, rgba32f) uniform readonly image2D historyNear;
+layout(set = 1, binding = 8, rgba32f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 9, rgba32f) uniform readonly image2D historyMoments;
 HDOF_RAY_WORK_LIST(10, readonly);
 layout(set = 1, binding = 11) uniform writeonly image2D outNear;

@@ -67,10 +67,12 @@ struct HybridImages {
   // next rays continue its sample sequence whatever the mask gave it in earlier frames.
   gpu::Image samplesTraced;
   // The temporal accumulation's, two sets that swap roles each frame. Colours premultiplied by
-  // their layer's share of the rays.
+  // their layer's share of the rays. Single floats: a frame's share of a long average is smaller
+  // than half a float's rounding step, which lost it (on a GPU, rounding towards zero, darkened
+  // a resting view frame by frame).
   struct History {
-    gpu::Image nearLayer;  // rgba16f: near colour x hit ratio, accumulated hit ratio
-    gpu::Image farLayer;   // rgba16f: far colour x (1 - ratio), rays accumulated
+    gpu::Image nearLayer;  // rgba32f: near colour x hit ratio, accumulated hit ratio
+    gpu::Image farLayer;   // rgba32f: far colour x (1 - ratio), rays accumulated
     gpu::Image moments;    // rgba32f: luminance mean, mean square, rays accumulated, depth
   };
   std::array<History, 2> history;

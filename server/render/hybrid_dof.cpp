@@ -41,9 +41,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   });
   // The moving average's window (frames at the full rays per pixel): short after a change of view
   // or lens, so that the history follows it; on a still view it grows a frame per frame, so that
-  // the average takes in every ray since the change (the noise keeps falling), up to the most
-  // frames that half-float history still averages without rounding away a frame's share.
-  constexpr uint32_t kChangeWindow = 10, kStillWindow = 64;
+  // the average takes in every ray since the change (the noise keeps falling), up to 1024 frames
+  // (a one-ray frame's share of 4096 rays is still far above a float history's rounding step).
+  constexpr uint32_t kChangeWindow = 10, kStillWindow = 1024;
   struct {
     uint32_t reset;  // a cut or the first frame: no history at all
     float minBlend;  // the moving average's weight of the new frame once history is long
