@@ -332,14 +332,11 @@ TEST(HybridMode, AStillViewKeepsImproving) {
 // stopping at the post-process's where the mask saw nothing to do.
 TEST(HybridMode, ARestingViewTracesEveryPixel) {
   RenderSpec spec = wideOpen();
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 4;
   SceneOnGpu& scene = testScene(spec.scene);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-  FrameRequest request;
-  request.mode = RenderMode::Hybrid;
-  request.camera = Camera::fromScene(scene.scene.cameras.front());
-  request.lens = onSceneCameraSensor(Lens{50.0f, 1.4f, *scene.scene.cameras.front().focusDistance},
-                                     scene.scene.cameras.front(), spec.width, spec.height);
-  request.settings = {spec.width, spec.height, 0, 4};
+  FrameRequest request = requestFor(spec, scene.scene);
   for (uint32_t frame = 0; frame <= gpu::kMaxRasterSamples; ++frame) {
     request.settings.frameIndex = frame;
     FrameStats stats = pipeline.render(request);
