@@ -36,9 +36,13 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"samplesTraced", h.samplesTraced}},
                  Grid::indirect(m.workList));
   // Pixels the mask left out this frame drop their history: the pass writes listed pixels only.
-  steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
-    gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
-  });
+  // Once camera and lens have rested kMaxRasterSamples frames (ray_mask_rays.comp), or when every
+  // pixel is traced, the mask leaves none out.
+  if (stillFrames_ < gpu::kMaxRasterSamples && !traceEverywhere) {
+    steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
+      gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
+    });
+  }
   // The moving average's window (frames at the full rays per pixel): short after a change of view
   // or lens, so that the history follows it; on a still view it grows a frame per frame, so that
   // the average takes in every ray since the change (the noise keeps falling), up to 1024 frames
