@@ -147,11 +147,14 @@ int runBench(std::span<const std::string> args) {
 
   // Lens-only frames: a focus pull (the focus moving back and forth by 5%) on a still view whose
   // raster has all its samples, so that only the steps after the G-buffer run.
-  auto focusPullMs = [&](RenderMode mode) {
+  auto settle = [&](RenderMode mode) {
     request.mode = mode;
     request.timePasses = false;
     setup.pipeline.resetHistory();
     for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i) setup.pipeline.render(request);
+  };
+  auto focusPullMs = [&](RenderMode mode) {
+    settle(mode);
     float focus = request.lens.focusDistance;
     std::vector<double> ms;
     for (uint32_t i = 0; i < frames; ++i) {
@@ -164,6 +167,19 @@ int runBench(std::span<const std::string> args) {
   };
   double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
   double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
+
+  // The hybrid's frames once the view rests (nothing changed for kMaxRasterSamples frames): the
+  // G-buffer stands and every pixel gets rays, the frames an equal-time comparison spends most of
+  // its time on.
+  settle(RenderMode::Hybrid);
+  std::vector<double> restMs, restRays;
+  for (uint32_t i = 0; i < frames; ++i) {
+    FrameStats stats = setup.pipeline.render(request);
+    restMs.push_back(stats.wallMs);
+    restRays.push_back(double(stats.raysShot));
+  }
+  request.timePasses = true;
+  double hybridRestMs = median(restMs);
 
   // Frames after a cut: no history, one raster sample whose edges the anti-aliasing smooths
   // spatially; what a new session's first frame and every camera jump cost.
@@ -201,6 +217,7 @@ int runBench(std::span<const std::string> args) {
         "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
         "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f,"
         "\"postprocess_cut_frame_ms\":%.3f,\"hybrid_cut_frame_ms\":%.3f,"
+        "\"hybrid_rest_frame_ms\":%.3f,\"hybrid_rest_rays_per_frame\":%.0f,"
         "\"lens\":{\"focal_length_mm\":%.3f,\"f_number\":%.4g,\"focus_distance\":%.4f,"
         "\"sensor_width_mm\":%.4g,\"sensor_height_mm\":%.4g,\"fov_x_deg\":%.3f,"
         "\"fov_y_deg\":%.3f}}\n",
@@ -210,7 +227,7 @@ int runBench(std::span<const std::string> args) {
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         postProcessGpuMs, hybridGpuMs, rayTraceGpuMs, maskCoverage, hybridRays,
         hybridPassesJson.c_str(), fullTraceMs, fullRays, postProcessFocusPullMs, hybridFocusPullMs,
-        postProcessCutMs, hybridCutMs, lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
+        postProcessCutMs, hybridCutMs, hybridRestMs, median(restRays), lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
         lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
@@ -245,6 +262,11 @@ int runBench(std::span<const std::string> args) {
       "cut_frame_ms: postprocess=%.1f hybrid=%.1f (the first frame of a view, without history; "
       "wall clock, medians of %u)\n",
       postProcessCutMs, hybridCutMs, frames);
+  std::printf(
+      "rest_frame_ms: hybrid=%.1f (hybrid/raytrace %.2fx, %.0f rays; a view at rest after %u "
+      "frames, the G-buffer kept; wall clock, medians of %u)\n",
+      hybridRestMs, hybridRestMs / rayTraceFrameMs, median(restRays), gpu::kMaxRasterSamples,
+      frames);
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));

@@ -116,9 +116,15 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
                                   "\"fov_x_deg\":19.6"),
             std::string::npos)
       << bench.stdoutText;
-  // ... and what a lens-only frame and a frame after a cut cost.
-  for (const char* figure : {"\"hybrid_focus_pull_ms\":", "\"hybrid_cut_frame_ms\":"})
+  // ... and what a lens-only frame, a frame after a cut and one at rest cost.
+  for (const char* figure : {"\"hybrid_focus_pull_ms\":", "\"hybrid_cut_frame_ms\":",
+                             "\"hybrid_rest_frame_ms\":"})
     EXPECT_NE(bench.stdoutText.find(figure), std::string::npos) << figure;
+  // At rest every pixel gets rays.
+  const std::string restRays = "\"hybrid_rest_rays_per_frame\":";
+  size_t at = bench.stdoutText.find(restRays);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_GE(std::stod(bench.stdoutText.substr(at + restRays.size())), 64.0 * 36.0);
 }
 
 TEST(Cli, BadQualityInputIsAOneLineError) {
