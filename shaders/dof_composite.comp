@@ -81,6 +81,10 @@ vec3 smallBlur(ivec2 offset, float coc, vec3 sharp, bool subPixel, bool wide) {
       float inDisc = saturate(radius - distance + 0.5);
       float reaches = saturate(windowReach[j] - distance + 0.5);
       float weight = inDisc * reaches;
+      // A near blur in front of the pixel spreads over it (smallNearSpread), not into its blur.
+      float tapCoc = windowCoc[j];
+      if (kNearSpread && tapCoc <= -kDofFocusZone && tapCoc <= coc - 0.25 * abs(tapCoc))
+        weight = 0.0;
       if (subPixel && distance < 1.5) {
         float bothReach = min(radius, windowReach[j]);
         float lens = subPixelDiscWeight(distance > 1.0, min(bothReach, 1.0)) *
