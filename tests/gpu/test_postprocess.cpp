@@ -326,10 +326,11 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
   double furtherError = meanAbsoluteError(postProcess, reference, further);
   std::printf("beside in-focus silhouettes: %.2f, further out: %.2f (mean absolute error, 8 bit)\n",
               besideError, furtherError);
-  // With the bottle's colour gathered into the background around it this error was 5.3; what is
-  // left (about 3) is the background hidden behind the silhouettes, which the reference sees
-  // through the lens and a post-process has to invent.
-  EXPECT_LT(besideError, 4.0);
+  // With the bottle's colour gathered into the background around it this error was 5.3; with the
+  // pixels beside the silhouettes (which hold some of its colour) blurred as background, 1.7;
+  // what is left (about 0.6) is mostly the background hidden behind the silhouettes, which the
+  // reference sees through the lens and a post-process has to invent.
+  EXPECT_LT(besideError, 1.0);
   EXPECT_LT(furtherError, besideError);
 }
 
