@@ -28,40 +28,17 @@ float windowCoc[kWindow * kWindow];
 float windowReach[kWindow * kWindow];  // how far each pixel's own blur reaches
 float windowDensity[kWindow * kWindow];  // its energy per pixel of its disc
 
-// Whether a pixel of the window is loaded: wide, the whole window; else only the pixels next to
-// the quad (all a sub-pixel blur reads).
-bool inLoadedWindow(ivec2 inWindow, bool wide) {
-  int border = wide ? 0 : kSmallBlurReach - 1;
-  return all(greaterThanEqual(inWindow, ivec2(border))) &&
-         all(lessThan(inWindow, ivec2(kWindow - border)));
-}
-
-// A background pixel beside a sharper, nearer one (an in-focus silhouette) may hold the
-// silhouette's colour as well as its own: the raster's samples over the pixel are averaged, its
-// depth is one sample's. It blurs no more than that neighbour, so that the silhouette's colour
-// does not spread into the blurred background around it (a halo); the background's blur stops a
-// pixel short of the silhouette instead.
+// wide: the whole window; else only the pixels next to the quad (all a sub-pixel blur reads).
 void loadWindow(ivec2 first, bool wide) {
   ivec2 last = ivec2(frame.imageSize) - 1;
   [[unroll]] for (int j = 0; j < kWindow * kWindow; ++j) {
     ivec2 inWindow = ivec2(j % kWindow, j / kWindow);
-    if (!inLoadedWindow(inWindow, wide)) continue;
+    if (!wide && any(greaterThan(abs(2 * inWindow - (kWindow - 1)), ivec2(3)))) continue;
     ivec2 source = clamp(first + inWindow - kSmallBlurReach, ivec2(0), last);
     vec4 texel = imageLoad(colorCoc, source);
     windowColor[j] = texel.rgb;
     windowCoc[j] = texel.a;
-  }
-  [[unroll]] for (int j = 0; j < kWindow * kWindow; ++j) {
-    ivec2 inWindow = ivec2(j % kWindow, j / kWindow);
-    if (!inLoadedWindow(inWindow, wide)) continue;
-    float coc = abs(windowCoc[j]);
-    [[unroll]] for (int k = 0; k < 4; ++k) {
-      ivec2 beside = inWindow + ivec2(k == 0 ? -1 : k == 1 ? 1 : 0, k == 2 ? -1 : k == 3 ? 1 : 0);
-      if (!inLoadedWindow(beside, wide)) continue;
-      float besideCoc = windowCoc[beside.y * kWindow + beside.x];
-      if (besideCoc < windowCoc[j]) coc = min(coc, abs(besideCoc));
-    }
-    windowReach[j] = 0.5 * coc;
+    windowReach[j] = 0.5 * abs(windowCoc[j]);
     windowDensity[j] = 1.0 / max(kPi * windowReach[j] * windowReach[j], 1.0);
   }
 }
@@ -91,8 +68,7 @@ float subPixelDiscWeight(bool diagonal, float r) {
 // raster highlight's sparkle does not spread a halo. wide: whether the window holds more than
 // the pixels next to the quad.
 vec3 smallBlur(ivec2 offset, float coc, vec3 sharp, bool subPixel, bool wide) {
-  int self = (offset.y + kSmallBlurReach) * kWindow + offset.x + kSmallBlurReach;
-  float radius = min(windowReach[self], kSmallBlurRadius);
+  float radius = min(0.5 * abs(coc), kSmallBlurRadius);
   if (radius < (subPixel ? 0.5 * kDofSubPixelBlurCoc : 0.5)) return sharp;
   vec4 sum = vec4(sharp, 1.0);
   vec4 behind = vec4(0.0);
