@@ -227,8 +227,8 @@ int runBench(std::span<const std::string> args) {
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         postProcessGpuMs, hybridGpuMs, rayTraceGpuMs, maskCoverage, hybridRays,
         hybridPassesJson.c_str(), fullTraceMs, fullRays, postProcessFocusPullMs, hybridFocusPullMs,
-        postProcessCutMs, hybridCutMs, hybridRestMs, median(restRays), lens.focalLengthMm, lens.fNumber, lens.focusDistance, lens.sensor.widthMm,
-        lens.sensor.heightMm, fov.x, fov.y);
+        postProcessCutMs, hybridCutMs, hybridRestMs, median(restRays), lens.focalLengthMm,
+        lens.fNumber, lens.focusDistance, lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
