@@ -6,9 +6,6 @@
 // |CoC| when smaller: the raster averages its samples over the pixel, so its colour holds some of
 // the silhouette's, while its depth is one sample's; blurred as background it would spread the
 // silhouette's colour around it (a halo). The background's blur stops a pixel short instead.
-// Likewise an in-focus pixel beside a near blur that the half-resolution layers render takes its
-// CoC: shown sharp under the blur's veil, the near object's colour in it drew the object's
-// outline inside its own blur.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -47,14 +44,11 @@ void main() {
     int j = (offset.y + 1) * 4 + offset.x + 1;
     float coc = around[j];
     float sharpest = abs(coc);
-    float nearestBlur = coc;
     [[unroll]] for (int k = 0; k < 4; ++k) {
-      float beside = around[j + (k == 0 ? -1 : k == 1 ? 1 : k == 2 ? -4 : 4)];
-      if (beside < coc) sharpest = min(sharpest, abs(beside));
-      if (abs(coc) < kDofFocusZone && beside <= -kDofHalfResCoc)
-        nearestBlur = min(nearestBlur, beside);
+      int beside = j + (k == 0 ? -1 : k == 1 ? 1 : k == 2 ? -4 : 4);
+      if (around[beside] < coc) sharpest = min(sharpest, abs(around[beside]));
     }
-    cocs[i] = nearestBlur < coc ? nearestBlur : sign(coc) * sharpest;
+    cocs[i] = sign(coc) * sharpest;
     if (inside) imageStore(colorCoc, source, vec4(colors[i], cocs[i]));
     nearest = min(nearest, cocs[i]);
   }
