@@ -98,8 +98,11 @@ vec3 shadeSurface(SurfacePoint s, vec3 toViewer, float footprint, out vec3 specu
     float nDotL = dot(n, toLight);
     if (nDotL <= 0.0) continue;
     vec3 h = normalize(toLight + toViewer);
-    float nDotH = max(dot(n, h), 0.0);
-    float vDotH = max(dot(toViewer, h), 0.0);
+    // Clamped to 1 as well: with the light straight behind the viewer, rounding can put the dot
+    // product of unit vectors just above it, and pow() of the negative 1 - vDotH is NaN (a black
+    // pixel that the blurs spread into a black square).
+    float nDotH = clamp(dot(n, h), 0.0, 1.0);
+    float vDotH = clamp(dot(toViewer, h), 0.0, 1.0);
     vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - vDotH, 5.0);
     vec3 lightIn = irradiance * nDotL;
     diffuse += lightIn * diffuseColor * (1.0 / kPi);
