@@ -10,15 +10,18 @@
 
 #include "lib/dof_composite.glsl"
 
-// The list of tiles this pipeline composites: kDofListNarrow, kDofListWide or kDofListNear.
-layout(constant_id = 0) const uint kList = 2;  // kDofListNear: every blur
+// The list of tiles this pipeline composites: kDofListNarrow, kDofListWide, kDofListNear,
+// kDofListWider or kDofListNearWider.
+layout(constant_id = 0) const uint kList = 4;  // kDofListNearWider: every blur
 const bool kWideBlurs = kList != kDofListNarrow;
-const bool kNearSpread = kList == kDofListNear;
+const bool kNearSpread = kList == kDofListNear || kList == kDofListNearWider;
 
 // The small blurs below read kSmallBlurReach pixels around a pixel: discs up to a radius of
-// kSmallBlurReach + 0.5 (the CoC kDofSmallBlurCoc), which no pixel beyond that reach overlaps.
-const int kSmallBlurReach = int(0.5 * kDofSmallBlurCoc);
-const float kSmallBlurRadius = float(kSmallBlurReach) + 0.5;
+// kSmallBlurReach + 0.5, which no pixel beyond that reach overlaps (the CoC kDofWideCoc in the
+// wide and near lists, kDofSmallBlurCoc in the wider ones).
+const int kSmallBlurReach = kList == kDofListWider || kList == kDofListNearWider
+                                ? int(0.5 * kDofSmallBlurCoc)
+                                : int(0.5 * kDofWideCoc);
 const int kWindow = 2 + 2 * kSmallBlurReach;
 
 // The full-resolution colour and CoC of the pixels around a quad that the small blurs of its
@@ -68,7 +71,7 @@ float subPixelDiscWeight(bool diagonal, float r) {
 // raster highlight's sparkle does not spread a halo. wide: whether the window holds more than
 // the pixels next to the quad.
 vec3 smallBlur(ivec2 offset, float coc, vec3 sharp, bool subPixel, bool wide) {
-  float radius = min(0.5 * abs(coc), kSmallBlurRadius);
+  float radius = min(0.5 * abs(coc), float(kSmallBlurReach) + 0.5);
   if (radius < (subPixel ? 0.5 * kDofSubPixelBlurCoc : 0.5)) return sharp;
   vec4 sum = vec4(sharp, 1.0);
   vec4 behind = vec4(0.0);
@@ -137,8 +140,9 @@ void main() {
   [[unroll]] for (int i = 0; i < 4; ++i)
     anySmallBlur = anySmallBlur || (abs(q.coc[i]) >= minBlur && q.blur[i] < 1.0);
   // Whether a small near blur may spread over the quad: the 3x3 half-resolution pixels cover the
-  // small blurs' window, each with the nearest CoC of its 2x2 pixels.
-  bool anySmallNear = false;
+  // 2 px around it, each with the nearest CoC of its 2x2 pixels; a wider list's blurs read
+  // further, and their quads spread the near field in any case.
+  bool anySmallNear = kSmallBlurReach > 2 && kNearSpread && q.withNear;
   if (kNearSpread && q.withNear) {
     [[unroll]] for (int j = 0; j < 9; ++j)
       anySmallNear = anySmallNear || (q.far[j].a <= -kDofFocusZone && q.far[j].a > -kDofHalfResCoc);

@@ -68,6 +68,7 @@ int runBench(std::span<const std::string> args) {
                                   "dof_tile_lists_clear", "dof_tile_lists", "dof_prefilter",
                                   "dof_gather", "dof_median", "dof_composite_narrow",
                                   "dof_composite_wide", "dof_composite_near",
+                                  "dof_composite_wider", "dof_composite_near_wider",
                                   "dof_composite_layers"});
   double postProcessFrameWallMs = median(wallMs);
   // Whole frames, side by side at the same rays per pixel: what the hybrid costs against the

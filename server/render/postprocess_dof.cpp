@@ -19,6 +19,9 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
       compositeNarrow_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNarrow}}),
       compositeWide_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListWide}}),
       compositeNear_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNear}}),
+      compositeWider_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListWider}}),
+      compositeNearWider_(context, "dof_composite.comp", nullptr,
+                          {{"kList", gpu::kDofListNearWider}}),
       compositeLayers_(context, "dof_composite_layers.comp") {}
 
 void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d) const {
@@ -72,6 +75,8 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
   composite(compositeNarrow_, gpu::kDofListNarrow, "dof_composite_narrow");
   composite(compositeWide_, gpu::kDofListWide, "dof_composite_wide");
   composite(compositeNear_, gpu::kDofListNear, "dof_composite_near");
+  composite(compositeWider_, gpu::kDofListWider, "dof_composite_wider");
+  composite(compositeNearWider_, gpu::kDofListNearWider, "dof_composite_near_wider");
   composite(compositeLayers_, gpu::kDofListLayers, "dof_composite_layers");
 }
 

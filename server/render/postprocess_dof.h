@@ -1,7 +1,7 @@
 // The post-process depth of field (Jimenez 2014, "Next Generation Post Processing in Call of
 // Duty: Advanced Warfare") from the G-buffer's sharp colour and depth: CoC and half-resolution
 // downsample, CoC tiles, tile dilation, prefilter, scatter-as-gather into a near and a far layer,
-// median, and a full-resolution composite in passes over lists of tiles, three of them for the
+// median, and a full-resolution composite in passes over lists of tiles, five of them for the
 // tiles with full-resolution blurs by how far those read, one for the others (shaders/dof_*.comp).
 #pragma once
 
@@ -18,8 +18,10 @@ class PostProcessDof {
 
  private:
   gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, gather_, median_;
-  // dof_composite.comp made for the narrow, wide and near lists of tiles (shared/dof.h).
-  gpu::ComputeProgram compositeNarrow_, compositeWide_, compositeNear_, compositeLayers_;
+  // dof_composite.comp made for the narrow, wide, near, wider and near-wider lists of tiles
+  // (shared/dof.h).
+  gpu::ComputeProgram compositeNarrow_, compositeWide_, compositeNear_, compositeWider_,
+      compositeNearWider_, compositeLayers_;
 };
 
 }  // namespace hdof
