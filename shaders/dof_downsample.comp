@@ -6,6 +6,11 @@
 // |CoC| when smaller: the raster averages its samples over the pixel, so its colour holds some of
 // the silhouette's, while its depth is one sample's; blurred as background it would spread the
 // silhouette's colour around it (a halo). The background's blur stops a pixel short instead.
+// Beside a wide near-field blur in front of it, a pixel holds some of that near surface's colour
+// the same way (more of it in motion, where the anti-aliasing's history trails), shown sharp
+// under the blur: an outline of the near object inside its blur. Taken as a mix of the surface
+// beside it and the pixel on its other side, it gives up the near surface's share, which the
+// near blur spreads over it anyway.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
@@ -18,6 +23,28 @@ layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
 layout(set = 1, binding = 2, rgba32f) uniform readonly image2D normalDepth;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D colorCoc;  // a: CoC
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  // a: CoC
+
+// The block's pixels in the 4x4 window around it, and the offsets in the window to a pixel's left,
+// right, upper and lower neighbour.
+const int kBlock[4] = int[4](5, 6, 9, 10);
+const int kBeside[4] = int[4](-1, 1, -4, 4);
+
+// Whether a neighbour's CoC is that of a wide near-field blur in front of the pixel.
+bool inFrontOf(float neighbour, float own) {
+  return neighbour <= -kDofHalfResCoc && neighbour < own - kDofFocusZone;
+}
+
+// How much of a pixel's colour (own) is the near-field surface beside it (front) rather than what
+// lies behind (back: the pixel on its other side), the pixel taken as their mix; none where the
+// two are too alike to tell, or where the pixel's colour is not such a mix.
+float frontShare(vec3 own, vec3 front, vec3 back) {
+  vec3 across = front - back;
+  float length2 = dot(across, across);
+  if (length2 <= 0.01 * max(dot(front, front), dot(back, back))) return 0.0;
+  float share = saturate(dot(own - back, across) / length2);
+  vec3 off = own - back - share * across;
+  return dot(off, off) <= 0.0625 * length2 ? share : 0.0;
+}
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -32,24 +59,53 @@ void main() {
     ivec2 source = clamp(pixel * 2 + inBlock, ivec2(0), size - 1);
     around[j] = signedCoc(imageLoad(normalDepth, source).w);
   }
+  // The block's colours; beside a wide near-field blur in front of a pixel, its colour without the
+  // near surface's share, which that blur spreads over it.
   vec3 colors[4];
+  bool nearBeside = false;
+  [[unroll]] for (int i = 0; i < 4; ++i) {
+    colors[i] = imageLoad(color, min(pixel * 2 + ivec2(i & 1, i >> 1), size - 1)).rgb;
+    int j = kBlock[i];
+    [[unroll]] for (int k = 0; k < 4; ++k)
+      nearBeside = nearBeside || inFrontOf(around[j + kBeside[k]], around[j]);
+  }
+  // A loop rather than an if: lavapipe skips a loop that no lane enters.
+  for (int n = 0; n < (nearBeside ? 1 : 0); ++n) {
+    vec3 ring[16];
+    [[unroll]] for (int j = 0; j < 16; ++j) {
+      ivec2 inBlock = ivec2(j % 4, j / 4) - 1;
+      if ((inBlock.x == -1 || inBlock.x == 2) && (inBlock.y == -1 || inBlock.y == 2)) continue;
+      ring[j] = imageLoad(color, clamp(pixel * 2 + inBlock, ivec2(0), size - 1)).rgb;
+    }
+    [[unroll]] for (int i = 0; i < 4; ++i) {
+      // The nearest such neighbour, and the pixel on the pixel's other side.
+      int j = kBlock[i];
+      float nearestInFront = around[j];
+      vec3 front = vec3(0.0), back = vec3(0.0);
+      [[unroll]] for (int k = 0; k < 4; ++k) {
+        float other = around[j + kBeside[k]];
+        bool nearer = inFrontOf(other, around[j]) && other < nearestInFront;
+        nearestInFront = nearer ? other : nearestInFront;
+        front = nearer ? ring[j + kBeside[k]] : front;
+        back = nearer ? ring[j - kBeside[k]] : back;
+      }
+      if (nearestInFront < around[j])
+        colors[i] = max(colors[i] + frontShare(colors[i], front, back) * (back - front), 0.0);
+    }
+  }
   float cocs[4];
   float nearest = kDofMaxCoc;
   [[unroll]] for (int i = 0; i < 4; ++i) {
-    ivec2 offset = ivec2(i & 1, i >> 1);
-    ivec2 source = pixel * 2 + offset;
-    bool inside = all(lessThan(source, size));
-    source = min(source, size - 1);
-    colors[i] = imageLoad(color, source).rgb;
-    int j = (offset.y + 1) * 4 + offset.x + 1;
+    ivec2 source = pixel * 2 + ivec2(i & 1, i >> 1);
+    int j = kBlock[i];
     float coc = around[j];
     float sharpest = abs(coc);
     [[unroll]] for (int k = 0; k < 4; ++k) {
-      int beside = j + (k == 0 ? -1 : k == 1 ? 1 : k == 2 ? -4 : 4);
-      if (around[beside] < coc) sharpest = min(sharpest, abs(around[beside]));
+      float other = around[j + kBeside[k]];
+      if (other < coc) sharpest = min(sharpest, abs(other));
     }
     cocs[i] = sign(coc) * sharpest;
-    if (inside) imageStore(colorCoc, source, vec4(colors[i], cocs[i]));
+    if (all(lessThan(source, size))) imageStore(colorCoc, source, vec4(colors[i], cocs[i]));
     nearest = min(nearest, cocs[i]);
   }
   vec4 sum = vec4(0.0);

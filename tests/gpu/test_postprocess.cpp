@@ -334,6 +334,42 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
   EXPECT_LT(furtherError, besideError);
 }
 
+// The in-focus pixels beside a widely blurred near object hold none of its colour sharp under its
+// blur (an outline of the object inside the blur): the raster's averaged samples give such a
+// pixel some of the object's colour under the background's depth.
+TEST(PostProcess, NoOutlineOfANearObjectInsideItsBlur) {
+  RenderSpec spec;
+  spec.scene = kLivingRoom;
+  spec.camera = "closeup";
+  spec.width = 480;
+  spec.height = 270;
+  spec.lens = Lens{50.0f, 1.4f, 2.4f};
+  FrameRequest request;
+  std::vector<float> depth = renderDepth(spec, &request);
+  CocParameters coc = cocParameters(request.lens, spec.width, spec.height);
+  auto cocAt = [&](int x, int y) {
+    return gpu::signedCocPixels(depth[size_t(y) * spec.width + x], coc.apertureDiameter,
+                                coc.focusDistance, coc.focalLengthPixels);
+  };
+  std::vector<uint8_t> beside(depth.size(), 0);
+  for (int y = 1; y + 1 < int(spec.height); ++y)
+    for (int x = 1; x + 1 < int(spec.width); ++x) {
+      if (std::abs(cocAt(x, y)) >= gpu::kDofFocusZone) continue;
+      for (glm::ivec2 step : {glm::ivec2(1, 0), glm::ivec2(-1, 0), glm::ivec2(0, 1),
+                              glm::ivec2(0, -1)})
+        if (cocAt(x + step.x, y + step.y) <= -gpu::kDofHalfResCoc)
+          beside[size_t(y) * spec.width + x] = 255;
+    }
+  ASSERT_GT(maskCount(beside), 100u);
+  ImageRgba8 reference = renderImage(spec, RenderMode::Reference, 64);
+  ImageRgba8 postProcess = renderImage(spec, RenderMode::PostProcess, 1, 16);
+  double error = meanAbsoluteError(postProcess, reference, beside);
+  std::printf("in focus beside a wide near blur: %zu pixels, mean absolute error %.2f\n",
+              maskCount(beside), error);
+  // 7.6 with the near colour left in those pixels, 5.9 without it.
+  EXPECT_LT(error, 6.7);
+}
+
 // A bright near light a little out of focus (CoC 5-9 px) is a round disc of its CoC's size, as
 // the lens makes it: around the light, as far as its blur reaches, the post-process holds the
 // reference's colour. Blurred over the half-resolution layers for most of that range, the disc
