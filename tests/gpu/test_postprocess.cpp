@@ -294,18 +294,30 @@ double meanAbsoluteError(const ImageRgba8& a, const ImageRgba8& b,
   return count ? sum / double(count) : 0.0;
 }
 
+// The living room's closeup at 480x270 (f/1.4, focus 2.4 m), its depth and its lens's CoC.
+struct CloseupView {
+  RenderSpec spec;
+  std::vector<float> depth;
+  CocParameters coc;
+};
+
+CloseupView closeupView() {
+  CloseupView view;
+  view.spec.scene = kLivingRoom;
+  view.spec.camera = "closeup";
+  view.spec.width = 480;
+  view.spec.height = 270;
+  view.spec.lens = Lens{50.0f, 1.4f, 2.4f};
+  FrameRequest request;
+  view.depth = renderDepth(view.spec, &request);
+  view.coc = cocParameters(request.lens, view.spec.width, view.spec.height);
+  return view;
+}
+
 // The blurred background 2-4 px beside the in-focus bottle and table of the living room holds no
 // colour of them (a halo).
 TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
-  RenderSpec spec;
-  spec.scene = kLivingRoom;
-  spec.camera = "closeup";
-  spec.width = 480;
-  spec.height = 270;
-  spec.lens = Lens{50.0f, 1.4f, 2.4f};
-  FrameRequest request;
-  std::vector<float> depth = renderDepth(spec, &request);
-  CocParameters coc = cocParameters(request.lens, spec.width, spec.height);
+  auto [spec, depth, coc] = closeupView();
   std::vector<uint8_t> beside = besideInFocusSilhouettes(depth, spec.width, spec.height, coc, 2, 4);
   std::vector<uint8_t> further =
       besideInFocusSilhouettes(depth, spec.width, spec.height, coc, 6, 9);
@@ -338,15 +350,7 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
 // blur (an outline of the object inside the blur): the raster's averaged samples give such a
 // pixel some of the object's colour under the background's depth.
 TEST(PostProcess, NoOutlineOfANearObjectInsideItsBlur) {
-  RenderSpec spec;
-  spec.scene = kLivingRoom;
-  spec.camera = "closeup";
-  spec.width = 480;
-  spec.height = 270;
-  spec.lens = Lens{50.0f, 1.4f, 2.4f};
-  FrameRequest request;
-  std::vector<float> depth = renderDepth(spec, &request);
-  CocParameters coc = cocParameters(request.lens, spec.width, spec.height);
+  auto [spec, depth, coc] = closeupView();
   auto cocAt = [&](int x, int y) {
     return gpu::signedCocPixels(depth[size_t(y) * spec.width + x], coc.apertureDiameter,
                                 coc.focusDistance, coc.focalLengthPixels);
