@@ -350,7 +350,12 @@ TEST(PostProcess, NoHaloAroundInFocusSilhouettes) {
 // blur (an outline of the object inside the blur): the raster's averaged samples give such a
 // pixel some of the object's colour under the background's depth.
 TEST(PostProcess, NoOutlineOfANearObjectInsideItsBlur) {
-  auto [spec, depth, coc] = closeupView();
+  // References rather than a structured binding, which the lambda below could not capture before
+  // C++20 (clang 14 still cannot).
+  CloseupView view = closeupView();
+  const RenderSpec& spec = view.spec;
+  const std::vector<float>& depth = view.depth;
+  const CocParameters& coc = view.coc;
   auto cocAt = [&](int x, int y) {
     return gpu::signedCocPixels(depth[size_t(y) * spec.width + x], coc.apertureDiameter,
                                 coc.focusDistance, coc.focalLengthPixels);
