@@ -41,11 +41,15 @@ std::optional<float> readPositive(const json& object, const char* key, size_t in
   return value.get<float>();
 }
 
+// Catmull-Rom between p1 and p2, written as p1 plus the neighbours' offsets from it: where the
+// keyframes are alike (a camera held still) the offsets are exactly zero and so is the motion
+// (the sum of the four points' weights rounds differently from frame to frame, and the renderers
+// take any change of the view for motion).
 glm::vec3 catmullRom(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2,
                      const glm::vec3& p3, float t) {
-  float t2 = t * t, t3 = t2 * t;
-  return 0.5f * (2.0f * p1 + (p2 - p0) * t + (2.0f * p0 - 5.0f * p1 + 4.0f * p2 - p3) * t2 +
-                 (3.0f * p1 - p0 - 3.0f * p2 + p3) * t3);
+  glm::vec3 d0 = p0 - p1, d2 = p2 - p1, d3 = p3 - p1;
+  return p1 +
+         0.5f * t * ((d2 - d0) + t * ((2.0f * d0 + 4.0f * d2 - d3) + t * (d3 - d0 - 3.0f * d2)));
 }
 
 // Linear interpolation of an optional lens field between the keyframes around `time`.
@@ -139,7 +143,7 @@ void CameraPath::sample(float fraction, const Camera& baseCamera, const Lens& ba
   camera.position = catmullRom(k0.position, k1.position, k2.position, k3.position, t);
   glm::vec3 target = catmullRom(k0.target, k1.target, k2.target, k3.target, t);
   camera.forward = glm::normalize(target - camera.position);
-  glm::vec3 up = glm::normalize(glm::mix(k1.up, k2.up, t));
+  glm::vec3 up = glm::normalize(k1.up + (k2.up - k1.up) * t);  // exact where they are alike
   glm::vec3 right = glm::cross(camera.forward, up);
   if (glm::length(right) < 1e-6f) right = glm::cross(camera.forward, glm::vec3(1.0f, 0.0f, 0.0f));
   camera.up = glm::normalize(glm::cross(glm::normalize(right), camera.forward));

@@ -43,6 +43,27 @@ TEST(CameraPath, PassesThroughEveryKeyframe) {
   EXPECT_NEAR(camera.position.x, 4.0f, 1e-5f);
 }
 
+// A path that holds the camera still (its keyframes alike) gives the same camera bit for bit at
+// every frame: the renderers take any change, however small, for motion and restart their
+// accumulation.
+TEST(CameraPath, AStillPathGivesTheSameCameraAtEveryFrame) {
+  CameraPath path = CameraPath::parse(R"({"keyframes": [
+    {"position": [4.0, 1.0, -3.5], "target": [1.5, 0.8, -1.0], "up": [0.1, 0.9, 0.3],
+     "focus_distance": 3.7},
+    {"position": [4.0, 1.0, -3.5], "target": [1.5, 0.8, -1.0], "up": [0.1, 0.9, 0.3],
+     "focus_distance": 3.7}]})");
+  Camera first, camera;
+  Lens firstLens, lens;
+  path.sample(0.0f, Camera{}, Lens{}, first, firstLens);
+  for (int frame = 1; frame < 32; ++frame) {
+    path.sample(float(frame) / 31.0f, Camera{}, Lens{}, camera, lens);
+    EXPECT_EQ(camera.position, first.position) << "frame " << frame;
+    EXPECT_EQ(camera.forward, first.forward) << "frame " << frame;
+    EXPECT_EQ(camera.up, first.up) << "frame " << frame;
+    EXPECT_EQ(lens.focusDistance, firstLens.focusDistance) << "frame " << frame;
+  }
+}
+
 TEST(CameraPath, RejectsBadInputWithAReason) {
   for (const char* bad : {"", "[]", "{\"keyframes\": []}", "{\"keyframes\": [{}]}",
                           R"({"keyframes": [{"position": [0, 0], "target": [0, 0, 1]}]})",
