@@ -13,8 +13,10 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
+#include "lib/dof.glsl"
 
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D rasterColor;  // this frame's sample
+// This frame's sample; a: its CoC.
+layout(set = 1, binding = 1, rgba16f) uniform readonly image2D rasterColor;
 layout(set = 1, binding = 2, rgba16f) uniform readonly image2D history;  // anti-aliased so far
 layout(set = 1, binding = 3, rg16f) uniform readonly image2D motion;  // pixels to where it was
 layout(set = 1, binding = 4) uniform writeonly image2D outColor;  // rgba16f
@@ -171,7 +173,9 @@ vec3 spatialAntialias(ivec2 pixel, vec3 current) {
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   if (any(greaterThanEqual(uvec2(pixel), frame.imageSize))) return;
-  vec3 current = imageLoad(rasterColor, pixel).rgb;
+  vec4 currentSample = imageLoad(rasterColor, pixel);
+  vec3 current = currentSample.rgb;
+  float currentCoc = currentSample.a;
   vec3 result = current;
   if (kFirstSample) {
     result = spatialAntialias(pixel, current);
@@ -182,12 +186,18 @@ void main() {
   } else if (!kStillSamples && push.historyValid != 0u) {
     vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;
     if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize)))) {
+      // The range leaves out a neighbour under a wide near blur in front of the pixel: the
+      // history there may trail that surface's colour, which the blur spreads over the pixel
+      // anyway; bounded by it, the trail lived on as a band of the surface's colour beside its
+      // silhouette, an outline inside its blur.
+      ivec2 last = ivec2(frame.imageSize) - 1;
       vec3 low = current, high = current;
       [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
         [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
-          vec3 c = rasterAt(pixel + ivec2(dx, dy));
-          low = min(low, c);
-          high = max(high, c);
+          vec4 other = imageLoad(rasterColor, clamp(pixel + ivec2(dx, dy), ivec2(0), last));
+          bool bound = !wideNearBlurInFront(other.a, currentCoc);
+          low = bound ? min(low, other.rgb) : low;
+          high = bound ? max(high, other.rgb) : high;
         }
       }
       result = mix(clamp(historyAt(from), low, high), current, kMovingBlend);

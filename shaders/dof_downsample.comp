@@ -7,8 +7,7 @@
 // the silhouette's, while its depth is one sample's; blurred as background it would spread the
 // silhouette's colour around it (a halo). The background's blur stops a pixel short instead.
 // Beside a wide near-field blur in front of it, a pixel holds some of that near surface's colour
-// the same way (more of it in motion, where the anti-aliasing's history trails), shown sharp
-// under the blur: an outline of the near object inside its blur. Taken as a mix of the surface
+// the same way, shown sharp under the blur: an outline of the near object inside its blur. Taken as a mix of the surface
 // beside it and the pixel on its other side, it gives up the near surface's share, which the
 // near blur spreads over it anyway.
 #version 460
@@ -28,11 +27,6 @@ layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  /
 // right, upper and lower neighbour.
 const int kBlock[4] = int[4](5, 6, 9, 10);
 const int kBeside[4] = int[4](-1, 1, -4, 4);
-
-// Whether a neighbour's CoC is that of a wide near-field blur in front of the pixel.
-bool inFrontOf(float neighbour, float own) {
-  return neighbour <= -kDofHalfResCoc && neighbour < own - kDofFocusZone;
-}
 
 // How much of a pixel's colour (own) is the near-field surface beside it (front) rather than what
 // lies behind (back: the pixel on its other side), the pixel taken as their mix; none where the
@@ -67,7 +61,7 @@ void main() {
     colors[i] = imageLoad(color, min(pixel * 2 + ivec2(i & 1, i >> 1), size - 1)).rgb;
     int j = kBlock[i];
     [[unroll]] for (int k = 0; k < 4; ++k)
-      nearBeside = nearBeside || inFrontOf(around[j + kBeside[k]], around[j]);
+      nearBeside = nearBeside || wideNearBlurInFront(around[j + kBeside[k]], around[j]);
   }
   // A loop rather than an if: lavapipe skips a loop that no lane enters.
   for (int n = 0; n < (nearBeside ? 1 : 0); ++n) {
@@ -84,7 +78,7 @@ void main() {
       vec3 front = vec3(0.0), back = vec3(0.0);
       [[unroll]] for (int k = 0; k < 4; ++k) {
         float other = around[j + kBeside[k]];
-        bool nearer = inFrontOf(other, around[j]) && other < nearestInFront;
+        bool nearer = wideNearBlurInFront(other, around[j]) && other < nearestInFront;
         nearestInFront = nearer ? other : nearestInFront;
         front = nearer ? ring[j + kBeside[k]] : front;
         back = nearer ? ring[j - kBeside[k]] : back;

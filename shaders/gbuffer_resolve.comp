@@ -12,11 +12,12 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/scene.glsl"
 #include "lib/frame.glsl"
+#include "lib/dof.glsl"
 #include "lib/shading.glsl"
 #include "lib/camera_rays.glsl"
 
 layout(set = 1, binding = 1, r32ui) uniform readonly uimage2D visibility;
-layout(set = 1, binding = 2) uniform writeonly image2D outColor;  // rgba16f
+layout(set = 1, binding = 2) uniform writeonly image2D outColor;  // rgba16f; a: the sample's CoC
 layout(set = 1, binding = 3) uniform writeonly image2D outSpecular;  // rgba16f
 layout(set = 1, binding = 4) uniform writeonly image2D outNormalDepth;  // rgba32f
 layout(set = 1, binding = 5) uniform writeonly image2D outMotion;  // rg16f
@@ -39,7 +40,7 @@ void main() {
   bool firstSample = frame.rasterSample == 0u;
   if (!firstSample) imageStore(outMotion, pixel, vec4(0.0));
   if (triangle == kNoTriangle) {
-    imageStore(outColor, pixel, vec4(frame.skyColor, 1.0));
+    imageStore(outColor, pixel, vec4(frame.skyColor, signedCoc(kBackgroundDepth)));
     imageStore(outSpecular, pixel, vec4(0.0));
     if (!firstSample) return;
     imageStore(outNormalDepth, pixel, vec4(0.0, 0.0, 0.0, kBackgroundDepth));
@@ -68,10 +69,10 @@ void main() {
   float distance = length(toEye);
   vec3 specular;
   vec3 color = shadeSurface(s, toEye / distance, distance * pixelAngle(), specular);
-  imageStore(outColor, pixel, vec4(color, 1.0));
+  float linearDepth = dot(s.position - frame.eye, frame.forward);
+  imageStore(outColor, pixel, vec4(color, signedCoc(linearDepth)));
   imageStore(outSpecular, pixel, vec4(specular, 1.0));
   if (!firstSample) return;
-  float linearDepth = dot(s.position - frame.eye, frame.forward);
   imageStore(outNormalDepth, pixel, vec4(normalize(s.normal), linearDepth));
   imageStore(outMotion, pixel, vec4(motionTo(vec4(s.position, 1.0), pixel), 0.0, 0.0));
 }

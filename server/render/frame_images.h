@@ -16,7 +16,7 @@ struct GBufferImages {
   GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
   gpu::Image visibility;    // r32ui: the triangle seen at each pixel centre
   gpu::Image depth;         // d32: the raster's depth buffer
-  gpu::Image rasterColor;   // rgba16f: this frame's shaded raster sample (HDR)
+  gpu::Image rasterColor;   // rgba16f: this frame's shaded raster sample (HDR), a: its CoC
   gpu::Image color;         // rgba16f: the sharp colour, anti-aliased over frames (HDR)
   gpu::Image colorHistory;  // rgba16f: the previous frame's `color`
   gpu::Image specular;      // rgba16f: the specular part of this frame's sample

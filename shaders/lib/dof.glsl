@@ -11,6 +11,13 @@ float signedCoc(float linearDepth) {
   return clamp(coc, -kDofMaxCoc, kDofMaxCoc);
 }
 
+// Whether a neighbour's CoC is that of a wide near-field blur in front of the pixel (own CoC): the
+// blur spreads the neighbour's colour over the pixel, so any of it that the pixel holds sharp
+// shows as an outline of the near object inside its blur.
+bool wideNearBlurInFront(float neighbour, float own) {
+  return neighbour <= -kDofHalfResCoc && neighbour < own - kDofFocusZone;
+}
+
 // CoC radius in half-resolution pixels. At least half a pixel: a pixel always covers itself,
 // and 1 / (pi r^2) stays finite.
 float halfResRadius(float coc) { return max(abs(coc) * 0.25, 0.5); }
