@@ -3,8 +3,9 @@
 // running average converges to a supersampled image (a box filter over the pixel, as the ray
 // tracers' jittered rays) of kMaxRasterSamples samples, after which the step no longer runs. When
 // the view moves, each frame samples another jittered position and the history is reprojected by
-// the motion vectors, clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the
-// surface changed) and blended in, so that edges stay smooth in motion where the picture allows it.
+// the motion of the nearest surface around the pixel, clamped to the range of this frame's 3x3
+// neighbourhood (no ghosting where the surface changed) and blended in, so that edges stay smooth
+// in motion where the picture allows it.
 // The first frame after a cut, one sample per pixel with no history, smooths its edges spatially
 // (spatialAntialias).
 #version 460
@@ -184,24 +185,32 @@ void main() {
     float samples = float(frame.rasterSample + 1u);
     result = previous + (current - previous) / samples;
   } else if (!kStillSamples && push.historyValid != 0u) {
-    vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, pixel).xy;
-    if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize)))) {
-      // The range leaves out a neighbour under a wide near blur in front of the pixel: the
-      // history there may trail that surface's colour, which the blur spreads over the pixel
-      // anyway; bounded by it, the trail lived on as a band of the surface's colour beside its
-      // silhouette, an outline inside its blur.
-      ivec2 last = ivec2(frame.imageSize) - 1;
-      vec3 low = current, high = current;
-      [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
-        [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
-          vec4 other = imageLoad(rasterColor, clamp(pixel + ivec2(dx, dy), ivec2(0), last));
-          bool bound = !wideNearBlurInFront(other.a, currentCoc);
-          low = bound ? min(low, other.rgb) : low;
-          high = bound ? max(high, other.rgb) : high;
-        }
+    // The history follows the nearest surface around the pixel (the smallest CoC is the
+    // nearest): an edge moves with the silhouette that makes it, where the background's own
+    // motion left a trail of the silhouette's colour, which the range (the silhouette's own
+    // pixels among it) did not clamp. The range leaves out a neighbour under a wide near blur in
+    // front of the pixel, and the history does not follow it: that surface's trail lived on as a
+    // band of its colour beside its silhouette, an outline inside its blur, which the blur
+    // spreads over the pixel anyway.
+    ivec2 last = ivec2(frame.imageSize) - 1;
+    vec3 low = current, high = current;
+    ivec2 nearest = pixel;
+    float nearestCoc = currentCoc;
+    [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
+      [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 q = clamp(pixel + ivec2(dx, dy), ivec2(0), last);
+        vec4 other = imageLoad(rasterColor, q);
+        bool bound = !wideNearBlurInFront(other.a, currentCoc);
+        low = bound ? min(low, other.rgb) : low;
+        high = bound ? max(high, other.rgb) : high;
+        bool nearer = bound && other.a < nearestCoc;
+        nearest = nearer ? q : nearest;
+        nearestCoc = nearer ? other.a : nearestCoc;
       }
-      result = mix(clamp(historyAt(from), low, high), current, kMovingBlend);
     }
+    vec2 from = vec2(pixel) + 0.5 + imageLoad(motion, nearest).xy;
+    if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize))))
+      result = mix(clamp(historyAt(from), low, high), current, kMovingBlend);
   }
   imageStore(outColor, pixel, vec4(result, 1.0));
 }
