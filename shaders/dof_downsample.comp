@@ -7,9 +7,9 @@
 // the silhouette's, while its depth is one sample's; blurred as background it would spread the
 // silhouette's colour around it (a halo). The background's blur stops a pixel short instead.
 // Beside a wide near-field blur in front of it, a pixel holds some of that near surface's colour
-// the same way, shown sharp under the blur: an outline of the near object inside its blur. Taken as a mix of the surface
-// beside it and the pixel on its other side, it gives up the near surface's share, which the
-// near blur spreads over it anyway.
+// the same way, shown sharp under the blur: an outline of the near object inside its blur. Taken
+// as a mix of the surface beside it and the pixel on its other side, it gives up the near
+// surface's share, which the near blur spreads over it anyway.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
