@@ -92,6 +92,15 @@ std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut)
   return pipeline.linearDepth();
 }
 
+void renderTruckOnto(FramePipeline& pipeline, FrameRequest request, int frames, float step) {
+  Camera end = request.camera;
+  glm::vec3 right = glm::normalize(glm::cross(end.forward, end.up));
+  for (int left = frames - 1; left >= 0; --left) {
+    request.camera.position = end.position - right * (step * float(left));
+    pipeline.render(request);
+  }
+}
+
 std::vector<uint8_t> occlusionRegion(const RenderSpec& spec) {
   FrameRequest request;
   std::vector<float> depth = renderDepth(spec, &request);

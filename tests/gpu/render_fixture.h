@@ -55,6 +55,9 @@ ImageRgba8 renderImage(RenderSpec spec, RenderMode mode, uint32_t rays = 1, uint
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
 std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
 
+// Frames of a truck to the right, `step` metres a frame, whose last frame is the request's view.
+void renderTruckOnto(FramePipeline& pipeline, FrameRequest request, int frames, float step);
+
 // The partial-occlusion region of the spec's view (255 inside), from its pinhole depth.
 std::vector<uint8_t> occlusionRegion(const RenderSpec& spec);
 

@@ -78,17 +78,12 @@ TEST(AntiAliasing, FramesInMotionGatherJitteredSamples) {
   SceneOnGpu& scene = testScene(kLivingRoom);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
   FrameRequest request = closeupRequest(scene.scene, RenderMode::Pinhole);
-  Camera end = request.camera;
   request.settings.pixelJitter = false;  // the sample at each pixel centre, as it is
   pipeline.render(request);
   double oneSample = compareImages(pipeline.image(), supersampled()).psnrDb;
   request.settings.pixelJitter = true;
   pipeline.cut();
-  for (int step = 8; step >= 0; --step) {  // 2 mm a frame, ending on the view
-    request.camera = end;
-    request.camera.position -= glm::normalize(glm::cross(end.forward, end.up)) * (0.002f * step);
-    pipeline.render(request);
-  }
+  renderTruckOnto(pipeline, request, 9, 0.002f);
   double moving = compareImages(pipeline.image(), supersampled()).psnrDb;
   std::printf("pinhole against its supersampled image: one sample %.2f dB, after a truck %.2f dB\n",
               oneSample, moving);
@@ -123,12 +118,7 @@ TEST(AntiAliasing, ASilhouetteInMotionLeavesNoTrail) {
   ASSERT_GT(edgePixels, 1000u);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kWidth, kHeight);
   FrameRequest request = closeupRequest(scene.scene, RenderMode::Pinhole);
-  Camera end = request.camera;
-  glm::vec3 right = glm::normalize(glm::cross(end.forward, end.up));
-  for (int step = 12; step >= 0; --step) {  // 4 mm a frame, ending on the view
-    request.camera.position = end.position - right * (0.004f * float(step));
-    pipeline.render(request);
-  }
+  renderTruckOnto(pipeline, request, 13, 0.004f);
   double psnr = compareImages(pipeline.image(), supersampled(), &edges).psnrDb;
   std::printf("pinhole after a truck, within 2 px of depth steps: %.2f dB\n", psnr);
   EXPECT_GT(psnr, 23.5);  // 21.5 dB with each pixel's own motion, 25.1 with the nearer surface's

@@ -397,13 +397,7 @@ TEST(PostProcess, NoOutlineOfANearObjectInsideItsBlurInMotion) {
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, view.spec.width, view.spec.height);
   FrameRequest request = requestFor(view.spec, scene.scene);
   request.mode = RenderMode::PostProcess;
-  Camera end = request.camera;
-  glm::vec3 right = glm::normalize(glm::cross(end.forward, end.up));
-  for (int step = 12; step >= 0;
-       --step) {  // a truck to the right, 4 mm a frame, ending on the view
-    request.camera.position = end.position - right * (0.004f * float(step));
-    pipeline.render(request);
-  }
+  renderTruckOnto(pipeline, request, 13, 0.004f);
   double error = meanAbsoluteError(pipeline.image(), reference, beside);
   std::printf("in focus within 2 px of a wide near blur, in motion: %zu pixels, error %.2f\n",
               maskCount(beside), error);
