@@ -185,7 +185,8 @@ int runQuality(std::span<const std::string> args) {
       "With --budget-ms, each mode also gets each budget of wall-clock time on this machine from\n"
       "a fresh start, and its last frame is compared (equal time). With --camera-path, the modes\n"
       "render the path's frames in motion instead, and are compared at four of them with\n"
-      "references of those views (256 rays per pixel unless --reference-spp).");
+      "references of those views (256 rays per pixel unless --reference-spp); a path of one\n"
+      "keyframe is a still view, measured as a --camera is.");
   addSceneOptions(parser, sceneOptions);
   addLensOptions(parser, lensOptions);
   parser.option("--size", "WxH", "image size (default 640x360)", &size);
@@ -211,7 +212,8 @@ int runQuality(std::span<const std::string> args) {
                 "rays per pixel per frame of hybrid and raytrace (default 4; raytrace also at 1)",
                 &rays);
   parser.option("--camera-path", "FILE.json",
-                "measure in motion along these keyframes (see hdof render --camera-path)",
+                "measure in motion along these keyframes (see hdof render --camera-path); one "
+                "keyframe: that still view",
                 &cameraPathFile);
   parser.option("--frames", "N", "frames along --camera-path (default 32)", &frames);
   parser.option("--budget-ms", "MS,...",
@@ -236,13 +238,18 @@ int runQuality(std::span<const std::string> args) {
   std::vector<uint32_t> budgets;
   if (parser.given("--budget-ms")) budgets = parseBudgets(budgetList);
   std::optional<CameraPath> path;
-  if (!cameraPathFile.empty()) {
+  if (!cameraPathFile.empty()) path = loadCameraPath(cameraPathFile);
+  // A path of one keyframe is a still view that the scene does not name.
+  std::optional<CameraPath> still;
+  if (path && path->keyframes().size() == 1) still.swap(path);
+  if (path) {
     if (!budgets.empty())
-      throw UsageError("--budget-ms measures the still view: it cannot go with --camera-path");
+      throw UsageError("--budget-ms measures a still view: it cannot go with a --camera-path of "
+                       "several keyframes (one keyframe is a still view)");
     if (!referencePath.empty())
-      throw UsageError("--reference is a still's reference: it cannot go with --camera-path");
+      throw UsageError("--reference is a still's reference: it cannot go with a --camera-path "
+                       "of several keyframes (one keyframe is a still view)");
     if (frames < 4 || frames > 100000) throw UsageError("--frames must be 4 to 100000");
-    path = loadCameraPath(cameraPathFile);
   }
   if (referenceOptions.maxRays < referenceOptions.startRays || referenceOptions.maxRays > 65536)
     throw UsageError("--max-reference-spp must be 16 to 65536");
@@ -264,6 +271,11 @@ int runQuality(std::span<const std::string> args) {
     motion.json = json;
     measureQualityInMotion(setup, *path, motion);
     return 0;
+  }
+  if (still) {
+    const Camera camera = request.camera;
+    const Lens lens = request.lens;
+    still->sample(0.0f, camera, lens, request.camera, request.lens);
   }
   std::vector<ModeRun> runs;
   for (RenderMode mode : modeList) {

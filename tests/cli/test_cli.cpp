@@ -210,6 +210,22 @@ TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
         std::filesystem::exists(out / ("motion-reference-" + std::to_string(frame) + ".png")))
         << frame;
   EXPECT_TRUE(std::filesystem::exists(out / "motion-edge-mask-3.png"));
+
+  // A path of one keyframe is a still view that the scene does not name: measured as a still
+  // (equal time included), from that view, not the scene camera's.
+  auto still = out / "still.json";
+  std::ofstream(still) << R"({"keyframes": [{"position": [1.5, 1.2, 4.0], "target": [0, 0.5, 0]}]})";
+  auto stillOut = out / "still";
+  Result path = runHdof(common + " --modes postprocess --budget-ms 20 --camera-path " +
+                        still.string() + " --out " + stillOut.string());
+  ASSERT_EQ(path.exitCode, 0) << path.stderrText;
+  EXPECT_NE(path.stdoutText.find("mode=postprocess frames=16 psnr_db="), std::string::npos)
+      << path.stdoutText;
+  EXPECT_NE(path.stdoutText.find("budget_ms=20 mode=postprocess"), std::string::npos)
+      << path.stdoutText;
+  hdof::ImageRgba8 sceneView = hdof::readImage((out / "reference.png").string());
+  hdof::ImageRgba8 pathView = hdof::readImage((stillOut / "reference.png").string());
+  EXPECT_NE(sceneView.pixels, pathView.pixels);
 }
 
 TEST(Cli, CorruptSceneFileIsAOneLineError) {
