@@ -1,11 +1,12 @@
 // G-buffer (stage 1), anti-aliasing step: the raster's colour accumulated over frames. While the
-// view rests every frame adds a sample at another sub-pixel position (a Halton sequence), and the
-// running average converges to a supersampled image (a box filter over the pixel, as the ray
-// tracers' jittered rays) of kMaxRasterSamples samples, after which the step no longer runs. When
-// the view moves, each frame samples another jittered position and the history is reprojected by
-// the motion of the nearest surface around the pixel, clamped to the range of this frame's 3x3
-// neighbourhood (no ghosting where the surface changed) and blended in, so that edges stay smooth
-// in motion where the picture allows it.
+// view rests every frame adds samples at other sub-pixel positions (a Halton sequence; the first
+// kMultisampledFrames frames four where a pixel's samples see several triangles), and the running
+// average, weighted by what each frame's sample counts for, converges to a supersampled image (a
+// box filter over the pixel, as the ray tracers' jittered rays) over kStillRasterFrames frames,
+// after which the step no longer runs. When the view moves, each frame samples another jittered
+// position and the history is reprojected by the motion of the nearest surface around the pixel,
+// clamped to the range of this frame's 3x3 neighbourhood (no ghosting where the surface changed)
+// and blended in, so that edges stay smooth in motion where the picture allows it.
 // The first frame after a cut, one sample per pixel with no history, smooths its edges spatially
 // (spatialAntialias).
 #version 460
@@ -22,6 +23,10 @@ layout(set = 1, binding = 2, rgba16f) uniform readonly image2D history;  // anti
 layout(set = 1, binding = 3, rg16f) uniform readonly image2D motion;  // pixels to where it was
 layout(set = 1, binding = 4) uniform writeonly image2D outColor;  // rgba16f
 layout(set = 1, binding = 5, rgba32f) uniform readonly image2D normalDepth;  // w linear depth
+// a: what this frame's sample counts for in the average (gbuffer_resolve.comp).
+layout(set = 1, binding = 6, rgba16f) uniform readonly image2D specular;
+// The samples averaged into each pixel so far.
+layout(set = 1, binding = 7, r16f) uniform image2D samplesAveraged;
 
 // Whether this pipeline serves only a still view's later samples (the running average: the frame
 // uniforms' rasterSample above 0; gbuffer_pass.cpp picks), made without the reprojection that a
@@ -192,9 +197,12 @@ void main() {
   if (kFirstSample) {
     result = spatialAntialias(pixel, current);
   } else if (frame.rasterSample > 0u) {
+    // This frame's samples join the average of the earlier ones.
     vec3 previous = imageLoad(history, pixel).rgb;
-    float samples = float(frame.rasterSample + 1u);
-    result = previous + (current - previous) / samples;
+    float before = imageLoad(samplesAveraged, pixel).r;
+    float added = imageLoad(specular, pixel).a;
+    result = previous + (current - previous) * (added / (before + added));
+    imageStore(samplesAveraged, pixel, vec4(before + added));
   } else if (!kStillSamples && push.historyValid != 0u) {
     // The history follows the nearest surface around the pixel (the smallest CoC is the
     // nearest): an edge moves with the silhouette that makes it, where the background's own
@@ -223,5 +231,6 @@ void main() {
     if (all(greaterThanEqual(from, vec2(0.0))) && all(lessThan(from, vec2(frame.imageSize))))
       result = mix(clamp(historyAt(from), low, high), current, kMovingBlend);
   }
+  if (frame.rasterSample == 0u) imageStore(samplesAveraged, pixel, vec4(1.0));
   imageStore(outColor, pixel, vec4(result, 1.0));
 }

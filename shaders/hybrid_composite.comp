@@ -28,6 +28,7 @@ layout(set = 1, binding = 7, rgba16f) uniform readonly image2D historyFar;
 layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 // Per tile, whether a near-field blur wider than the tile dilation reaches it (ray_mask_far.comp).
 layout(set = 1, binding = 10, r16f) uniform readonly image2D farTiles;
+layout(set = 1, binding = 11, r16f) uniform readonly image2D samplesAveraged;  // in `sharp`
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
@@ -84,7 +85,7 @@ void main() {
     float converged = clamp(far.a / kConvergedRays, 0.0, 1.0);
     color = mix(pp, mix(raster, traced, converged), trust);
     if (frame.rasterSample > 0u) {
-      float samples = float(min(frame.rasterSample + 1u, kMaxRasterSamples));
+      float samples = imageLoad(samplesAveraged, pixel).r;
       float counted = far.a / (far.a + kRasterSampleRays * samples);
       float shown = converged * trust;
       color = mix(color, traced, max(counted - shown, 0.0) / max(1.0 - shown, 1e-3));

@@ -11,8 +11,8 @@
 // far field only depth edges with a wide enough blur count: creases of a surface and small
 // background blurs are the post-process's, except while the view rests, when every edge whose blur
 // spans a pixel gets rays so that a still frame converges to the lens's image, and so do the
-// pixels that an in-focus edge crosses: the raster's 16 samples leave them short of the traced
-// image's antialiasing.
+// pixels that an in-focus edge crosses: the raster's 16 frames of samples leave them short of the
+// traced image's antialiasing.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require

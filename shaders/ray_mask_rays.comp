@@ -9,7 +9,7 @@
 // rays see varies slowly across the image, and the spatial reconstruction fills in from the
 // neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc,
 // in motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera
-// and lens have rested kMaxRasterSamples frames, a settled pixel's rays follow its variance alone,
+// and lens have rested kStillRasterFrames frames, a settled pixel's rays follow its variance alone,
 // so that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
 // Then the tile's pixels with rays are appended to the work list together (one atomic per
 // workgroup and counter; a ballot gives each lane its slot among its subgroup's), so that the
@@ -69,13 +69,13 @@ uint rayCount(ivec2 pixel, ivec2 size) {
   float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
   uint samples = clamp(frame.samplesPerPixel, 1u, 255u);  // what r8ui holds
   uint count = 0u;
-  bool resting = frame.stillFrames >= kMaxRasterSamples;
+  bool resting = frame.stillFrames >= kStillRasterFrames;
   float density = nearEdge && !(settled && resting)
                       ? min(1.0, pow(kRayMaskDenseCoc / max(sharpest, 1.0), 2.0))
                       : 1.0;
   if (nearEdge || noise >= kRayMaskVarianceOn)
     count = clamp(uint(ceil(need * density * float(samples))), 1u, samples);
-  // Once camera and lens have rested kMaxRasterSamples frames, the raster has all its samples and
+  // Once camera and lens have rested kStillRasterFrames frames, the raster has all its samples and
   // the G-buffer no longer runs: a frame's time goes to rays, and a pixel of the mask that the
   // composite already shows as traced alone (kHybridTrustedRays) gets the full rays. Before that,
   // more rays would only hand a pixel that the variance gave few over to its traced colour

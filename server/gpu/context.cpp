@@ -121,6 +121,12 @@ std::string checkDevice(VkPhysicalDevice device, const VkPhysicalDevicePropertie
   if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
       (subgroup.supportedOperations & kSubgroupOperations) != kSubgroupOperations)
     return "lacks subgroup ballot, arithmetic or shuffle operations in compute shaders";
+
+  // A still view's raster takes 4 samples per pixel where the resolve knows them to lie.
+  const VkPhysicalDeviceLimits& limits = properties2.properties.limits;
+  if (!limits.standardSampleLocations || !(limits.framebufferColorSampleCounts & 4) ||
+      !(limits.framebufferDepthSampleCounts & 4) || !(limits.sampledImageColorSampleCounts & 4))
+    return "lacks 4x multisampling at the standard sample locations";
   return "";
 }
 

@@ -80,7 +80,7 @@ Image::Image(const Context& context, const ImageDesc& desc, const std::string& n
   info.extent = {desc.width, desc.height, 1};
   info.mipLevels = desc.mipLevels;
   info.arrayLayers = desc.layers;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.samples = desc.samples;
   info.tiling = VK_IMAGE_TILING_OPTIMAL;
   info.usage = desc.usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
@@ -123,6 +123,12 @@ Image ImageBatch::make(uint32_t width, uint32_t height, VkFormat format, const s
                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                        VK_IMAGE_USAGE_TRANSFER_DST_BIT;
   Image image = createImage2D(context_, width, height, format, kUsage | extraUsage, name);
+  made_.push_back(image.get());
+  return image;
+}
+
+Image ImageBatch::make(const ImageDesc& desc, const std::string& name) {
+  Image image(context_, desc, name);
   made_.push_back(image.get());
   return image;
 }

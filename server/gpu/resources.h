@@ -102,6 +102,7 @@ struct ImageDesc {
   VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
   VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
   VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
 };
 
 class Image {
@@ -133,6 +134,8 @@ class ImageBatch {
   explicit ImageBatch(const Context& context) : context_(context) {}
   Image make(uint32_t width, uint32_t height, VkFormat format, const std::string& name,
              VkImageUsageFlags extraUsage = 0);
+  // Any other colour image (a multisampled one, say), with the usage `desc` gives.
+  Image make(const ImageDesc& desc, const std::string& name);
   // Submits and waits. The images made must still exist.
   void finish();
 

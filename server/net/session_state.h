@@ -101,7 +101,7 @@ class SessionState {
  private:
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
   uint32_t framesOfAStillView() const;
-  static constexpr uint32_t kRasterRefineFrames = gpu::kMaxRasterSamples;
+  static constexpr uint32_t kRasterRefineFrames = gpu::kStillRasterFrames;
   // The scale (of renderSize) a moving frame renders at: the largest step of kScaleStep, down
   // to kMinScale, whose predicted render time fits 1 / target_fps. It steps up only when the
   // larger step fits kScaleUpMargin of that, so that noisy frame times do not make every

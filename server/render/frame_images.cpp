@@ -1,6 +1,7 @@
 #include "render/frame_images.h"
 
 #include <shared/dof.h>
+#include <shared/frame.h>
 #include <shared/ray_work.h>
 
 #include <cstring>
@@ -28,12 +29,13 @@ gpu::Image makeTiles(gpu::ImageBatch& batch, uint32_t w, uint32_t h, VkFormat fo
 
 GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h)
-    : visibility(
-          batch.make(w, h, VK_FORMAT_R32_UINT, "visibility", VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
+    : visibility(batch.make(w, h, VK_FORMAT_R32_SFLOAT, "visibility",
+                            VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT)),
       rasterColor(batch.make(w, h, kColor, "raster color")),
       color(batch.make(w, h, kColor, "color")),
       colorHistory(batch.make(w, h, kColor, "color history")),
       specular(batch.make(w, h, kColor, "specular")),
+      samplesAveraged(batch.make(w, h, kScalar, "samples averaged")),
       normalDepth(batch.make(w, h, kPrecise, "normal depth")),
       motion(batch.make(w, h, kPair, "motion")) {
   gpu::ImageDesc desc;
@@ -43,6 +45,18 @@ GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context
   desc.usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
   desc.aspect = VK_IMAGE_ASPECT_DEPTH_BIT;
   depth = gpu::Image(context, desc, "depth");  // the render pass moves it out of UNDEFINED
+  desc.samples = VkSampleCountFlagBits(gpu::kStillRasterSamples);
+  multisampledDepth = gpu::Image(context, desc, "multisampled depth");
+  desc.format = VK_FORMAT_R32_SFLOAT;
+  desc.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+               VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+  desc.aspect = VK_IMAGE_ASPECT_COLOR_BIT;
+  multisampledVisibility = batch.make(desc, "multisampled visibility");
+  sharedPixels = gpu::Buffer(
+      context, sizeof(gpu::RayWorkHeader) + VkDeviceSize(w) * h * gpu::kRayWorkEntrySize,
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+          VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+      gpu::MemoryUse::DeviceOnly, "shared pixels");
 }
 
 DofImages::DofImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h) {

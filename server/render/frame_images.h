@@ -14,12 +14,19 @@ namespace hdof {
 // The G-buffer (gbuffer_pass.h): the raster's visibility and its shaded resolve.
 struct GBufferImages {
   GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);
-  gpu::Image visibility;    // r32ui: the triangle seen at each pixel centre
+  gpu::Image visibility;    // r32f: the triangle seen at each pixel's sample (-1: none)
   gpu::Image depth;         // d32: the raster's depth buffer
+  // The same with kStillRasterSamples samples per pixel: a still view's later frames.
+  gpu::Image multisampledVisibility, multisampledDepth;
+  // The pixels whose samples see more than one triangle (shared/ray_work.h's list: the header,
+  // then an entry per pixel), which the resolve's second step shades.
+  gpu::Buffer sharedPixels;
   gpu::Image rasterColor;   // rgba16f: this frame's shaded raster sample (HDR), a: its CoC
   gpu::Image color;         // rgba16f: the sharp colour, anti-aliased over frames (HDR)
   gpu::Image colorHistory;  // rgba16f: the previous frame's `color`
-  gpu::Image specular;      // rgba16f: the specular part of this frame's sample
+  // rgba16f: the specular part of this frame's sample; a: what the sample counts for in `color`
+  gpu::Image specular;
+  gpu::Image samplesAveraged;  // r16f: the samples `color` averages
   gpu::Image normalDepth;   // rgba32f: world normal, linear view depth (metres)
   // rg16f: where each pixel's surface was in the previous frame, in pixels from the pixel (for
   // the sky: where its direction was)

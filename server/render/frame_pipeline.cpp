@@ -21,10 +21,11 @@ float halton(uint32_t i, uint32_t base) {
   return result;
 }
 
-// The raster's sample position for the n-th frame of a still view (or of a move), from the pixel
-// centre: the centre first, then the (2, 3) Halton points, kMaxRasterSamples in all.
-glm::vec2 rasterJitter(uint32_t sample) {
-  uint32_t i = sample % gpu::kMaxRasterSamples;
+// The raster's jitter for the n-th frame of a still view (or of a move), from the pixel centre:
+// none first, then the (2, 3) Halton points, kJitterCycle in all.
+constexpr uint32_t kJitterCycle = 16;
+glm::vec2 rasterJitter(uint32_t frame) {
+  uint32_t i = frame % kJitterCycle;
   return i == 0 ? glm::vec2(0.0f) : glm::vec2(halton(i, 2), halton(i, 3)) - 0.5f;
 }
 
@@ -118,7 +119,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
     case RenderMode::PostProcess:
     case RenderMode::Hybrid:
       // A still view whose raster has all its samples keeps its G-buffer.
-      if (uniforms.rasterSample < gpu::kMaxRasterSamples)
+      if (uniforms.rasterSample < gpu::kStillRasterFrames)
         gbuffer_.record(steps, im.gbuffer, uniforms, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
@@ -164,7 +165,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
           : 0;
   // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
   // ran: its output stands.
-  bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kMaxRasterSamples;
+  bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kStillRasterFrames;
   auto stands = [&](const LensOutput& output) {
     return !drawsGBuffer && output.valid && sameLens(output.lens, request.lens);
   };
@@ -173,7 +174,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   if (request.mode == RenderMode::Hybrid)
     hybrid_.startFrame(uniforms, stands(maskEdges_));
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
-                                       : moving ? 1 + raster_.moves % (gpu::kMaxRasterSamples - 1)
+                                       : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
 

@@ -1,22 +1,22 @@
 #include "render/gbuffer_pass.h"
 
 #include <shared/frame.h>
+#include <shared/ray_work.h>
 
 #include <array>
 
 namespace hdof {
 namespace {
 
-constexpr std::array<VkFormat, 1> kColorFormats = {VK_FORMAT_R32_UINT};
-constexpr uint32_t kNoTriangle = 0xffffffffu;
+constexpr std::array<VkFormat, 1> kColorFormats = {VK_FORMAT_R32_SFLOAT};
 
-gpu::RenderPass createRenderPass(const gpu::Context& context) {
+gpu::RenderPass createRenderPass(const gpu::Context& context, VkSampleCountFlagBits samples) {
   std::vector<VkAttachmentDescription> attachments;
   std::vector<VkAttachmentReference> colorRefs;
   for (VkFormat format : kColorFormats) {
     VkAttachmentDescription a{};
     a.format = format;
-    a.samples = VK_SAMPLE_COUNT_1_BIT;
+    a.samples = samples;
     a.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
     a.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     a.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
@@ -28,7 +28,7 @@ gpu::RenderPass createRenderPass(const gpu::Context& context) {
   }
   VkAttachmentDescription depth{};
   depth.format = VK_FORMAT_D32_SFLOAT;
-  depth.samples = VK_SAMPLE_COUNT_1_BIT;
+  depth.samples = samples;
   depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
   depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
   depth.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
@@ -84,14 +84,22 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
     : context_(context),
       scene_(scene),
       runs_(buildTriangleRuns(cpuScene)),
-      renderPass_(createRenderPass(context)),
       layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
+      single_(makeRaster(VK_SAMPLE_COUNT_1_BIT)),
+      multisampled_(makeRaster(VkSampleCountFlagBits(gpu::kStillRasterSamples))),
       resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
+      resolveFirstTriangle_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 1}}),
+      resolveOtherTriangles_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 2}}),
+      sharedIndirect_(context, "ray_mask_indirect.comp"),
       antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
       antialias_(context, "antialias.comp"),
-      antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {
-  gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
-  gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
+      antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {}
+
+GBufferPass::Raster GBufferPass::makeRaster(VkSampleCountFlagBits samples) const {
+  Raster raster;
+  raster.renderPass = createRenderPass(context_, samples);
+  gpu::ShaderModule vertex = gpu::createShaderModule(context_, "gbuffer.vert");
+  gpu::ShaderModule fragment = gpu::createShaderModule(context_, "gbuffer.frag");
   VkPipelineShaderStageCreateInfo stages[2] = {};
   stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -115,15 +123,15 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   viewport.viewportCount = 1;
   viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{
+  VkPipelineRasterizationStateCreateInfo rasterization{
       VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides too
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
+  rasterization.polygonMode = VK_POLYGON_MODE_FILL;
+  rasterization.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides too
+  rasterization.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  rasterization.lineWidth = 1.0f;
   VkPipelineMultisampleStateCreateInfo multisample{
       VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  multisample.rasterizationSamples = samples;
   VkPipelineDepthStencilStateCreateInfo depth{
       VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   depth.depthTestEnable = VK_TRUE;
@@ -146,70 +154,99 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
   info.pVertexInputState = &vertexInput;
   info.pInputAssemblyState = &inputAssembly;
   info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
+  info.pRasterizationState = &rasterization;
   info.pMultisampleState = &multisample;
   info.pDepthStencilState = &depth;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
   info.layout = layout_.get();
-  info.renderPass = renderPass_;
+  info.renderPass = raster.renderPass;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateGraphicsPipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
+  VK_CHECK(vkCreateGraphicsPipelines(context_.device(), context_.pipelineCache(), 1, &info, nullptr,
                                      &pipeline));
-  context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), "gbuffer");
-  pipeline_ = gpu::Pipeline(context.device(), pipeline);
+  context_.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline),
+                   samples == VK_SAMPLE_COUNT_1_BIT ? "gbuffer" : "gbuffer multisampled");
+  raster.pipeline = gpu::Pipeline(context_.device(), pipeline);
+  return raster;
 }
 
 void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32_t height) {
-  VkImageView views[] = {images.visibility.view(), images.depth.view()};
-  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  info.renderPass = renderPass_;
-  info.attachmentCount = std::size(views);
-  info.pAttachments = views;
-  info.width = width;
-  info.height = height;
-  info.layers = 1;
-  VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
-  framebuffer_ = gpu::Framebuffer(context_.device(), framebuffer);
+  auto makeFramebuffer = [&](const Raster& raster, const gpu::Image& visibility,
+                             const gpu::Image& depth) {
+    VkImageView views[] = {visibility.view(), depth.view()};
+    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    info.renderPass = raster.renderPass;
+    info.attachmentCount = std::size(views);
+    info.pAttachments = views;
+    info.width = width;
+    info.height = height;
+    info.layers = 1;
+    VkFramebuffer framebuffer = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
+    return gpu::Framebuffer(context_.device(), framebuffer);
+  };
+  single_.framebuffer = makeFramebuffer(single_, images.visibility, images.depth);
+  multisampled_.framebuffer =
+      makeFramebuffer(multisampled_, images.multisampledVisibility, images.multisampledDepth);
   extent_ = {width, height};
+}
+
+void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
+                                 const gpu::FrameUniforms& uniforms) const {
+  VkClearValue clears[2] = {};
+  clears[0].color.float32[0] = -1.0f;  // no triangle
+  clears[1].depthStencil = {1.0f, 0};
+  VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+  begin.renderPass = raster.renderPass;
+  begin.framebuffer = raster.framebuffer;
+  begin.renderArea = {{0, 0}, extent_};
+  begin.clearValueCount = 2;
+  begin.pClearValues = clears;
+  vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
+  VkViewport viewport{0.0f, 0.0f, float(extent_.width), float(extent_.height), 0.0f, 1.0f};
+  VkRect2D scissor{{0, 0}, extent_};
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &scissor);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, raster.pipeline);
+  if (layout_.readsScene()) scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get());
+  layout_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, std::span(&frame, 1), {});
+  VkBuffer corners = scene_.cornerBuffer().get();
+  VkDeviceSize offset = 0;
+  vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
+  for (const TriangleRange& range : visibleTriangles(runs_, uniforms.viewProj))
+    vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
+  vkCmdEndRenderPass(cmd);
 }
 
 void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
                          const gpu::FrameUniforms& uniforms, bool historyValid) const {
+  // A still view's first frames after the first: several samples per pixel.
+  bool still = uniforms.rasterSample > 0 && uniforms.rasterSample <= gpu::kMultisampledFrames;
   steps.step("visibility", [&](VkCommandBuffer cmd) {
-    VkClearValue clears[2] = {};
-    clears[0].color.uint32[0] = kNoTriangle;
-    clears[1].depthStencil = {1.0f, 0};
-    VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-    begin.renderPass = renderPass_;
-    begin.framebuffer = framebuffer_;
-    begin.renderArea = {{0, 0}, extent_};
-    begin.clearValueCount = 2;
-    begin.pClearValues = clears;
-    vkCmdBeginRenderPass(cmd, &begin, VK_SUBPASS_CONTENTS_INLINE);
-    VkViewport viewport{0.0f, 0.0f, float(extent_.width), float(extent_.height), 0.0f, 1.0f};
-    VkRect2D scissor{{0, 0}, extent_};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_);
-    if (layout_.readsScene()) scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get());
-    gpu::Bind frame("Frame", steps.frameUniforms());
-    layout_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, std::span(&frame, 1), {});
-    VkBuffer corners = scene_.cornerBuffer().get();
-    VkDeviceSize offset = 0;
-    vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
-    for (const TriangleRange& range : visibleTriangles(runs_, uniforms.viewProj))
-      vkCmdDraw(cmd, range.triangleCount * 3, 1, range.firstTriangle * 3, 0);
-    vkCmdEndRenderPass(cmd);
+    drawVisibility(cmd, still ? multisampled_ : single_, gpu::Bind("Frame", steps.frameUniforms()),
+                   uniforms);
   });
-  steps.dispatch(resolve_,
-                 {{"visibility", images.visibility},
-                  {"outColor", images.rasterColor},
-                  {"outSpecular", images.specular},
-                  {"outNormalDepth", images.normalDepth},
-                  {"outMotion", images.motion}},
-                 gpu::Grid::over(images.color), {}, "gbuffer");
+  std::initializer_list<gpu::Bind> resolveBindings = {
+      {"visibility", images.visibility},
+      {"multisampledVisibility", images.multisampledVisibility},
+      {"outColor", images.rasterColor},
+      {"outSpecular", images.specular},
+      {"outNormalDepth", images.normalDepth},
+      {"outMotion", images.motion},
+      {"workList", images.sharedPixels}};
+  if (!still) {
+    steps.dispatch(resolve_, resolveBindings, gpu::Grid::over(images.color), {}, "gbuffer");
+  } else {
+    steps.step("gbuffer_list_clear", [&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, images.sharedPixels.get(), 0, sizeof(gpu::RayWorkHeader), 0);
+    });
+    steps.dispatch(resolveFirstTriangle_, resolveBindings, gpu::Grid::over(images.color), {},
+                   "gbuffer");
+    steps.dispatch(sharedIndirect_, {{"workList", images.sharedPixels}}, gpu::Grid::threads(1),
+                   {}, "gbuffer_list");
+    steps.dispatch(resolveOtherTriangles_, resolveBindings,
+                   gpu::Grid::indirect(images.sharedPixels), {}, "gbuffer_shared");
+  }
   steps.step("antialias_history", [&](VkCommandBuffer cmd) {
     gpu::copyImage(cmd, images.color, images.colorHistory);
   });
@@ -224,7 +261,9 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
                   {"history", images.colorHistory},
                   {"motion", images.motion},
                   {"outColor", images.color},
-                  {"normalDepth", images.normalDepth}},
+                  {"normalDepth", images.normalDepth},
+                  {"specular", images.specular},
+                  {"samplesAveraged", images.samplesAveraged}},
                  gpu::Grid::over(images.color), valid);
 }
 

@@ -2,7 +2,9 @@
 // triangle seen at each pixel's sample position, a compute resolve (gbuffer_resolve.comp) shades
 // that point once per pixel with the shading code the ray tracer uses, into colour, specular,
 // normal/depth and motion, and the anti-aliasing (antialias.comp) accumulates the colour over
-// frames: jittered samples while the view rests, reprojected history while it moves.
+// frames: jittered samples while the view rests, reprojected history while it moves. A still
+// view's later frames raster kStillRasterSamples samples per pixel (multisampled), and the resolve
+// shades each triangle among them once.
 #pragma once
 
 #include "render/frame_images.h"
@@ -27,15 +29,25 @@ class GBufferPass {
               bool historyValid) const;
 
  private:
+  // The visibility pass at one sample per pixel, and at kStillRasterSamples.
+  struct Raster {
+    gpu::RenderPass renderPass;
+    gpu::Framebuffer framebuffer;
+    gpu::Pipeline pipeline;
+  };
+  Raster makeRaster(VkSampleCountFlagBits samples) const;
+  void drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
+                      const gpu::FrameUniforms& uniforms) const;
+
   const gpu::Context& context_;
   const GpuScene& scene_;
   std::vector<TriangleRun> runs_;
-  gpu::RenderPass renderPass_;
-  gpu::Framebuffer framebuffer_;
-  VkExtent2D extent_{};
   gpu::ProgramLayout layout_;
-  gpu::Pipeline pipeline_;
-  gpu::ComputeProgram resolve_;
+  Raster single_, multisampled_;
+  VkExtent2D extent_{};
+  // gbuffer_resolve.comp's steps: one sample per pixel; the first triangle of several samples,
+  // the others; and the dispatch size of the last (ray_mask_indirect.comp).
+  gpu::ComputeProgram resolve_, resolveFirstTriangle_, resolveOtherTriangles_, sharedIndirect_;
   // antialias.comp for a still view's later samples, for the frames in motion, and for the first
   // frame after a cut.
   gpu::ComputeProgram antialiasStill_, antialias_, antialiasFirst_;

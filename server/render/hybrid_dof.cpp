@@ -36,9 +36,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"samplesTraced", h.samplesTraced}},
                  Grid::indirect(m.workList));
   // Pixels the mask left out this frame drop their history: the pass writes listed pixels only.
-  // Once camera and lens have rested kMaxRasterSamples frames (ray_mask_rays.comp), or when every
+  // Once camera and lens have rested kStillRasterFrames frames (ray_mask_rays.comp), or when every
   // pixel is traced, the mask leaves none out.
-  if (stillFrames_ < gpu::kMaxRasterSamples && !traceEverywhere) {
+  if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
     steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
       gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
     });
@@ -88,6 +88,7 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
     steps.dispatch(composite_,
                    {{"rays", m.rays},
                     {"sharp", g.color},
+                    {"samplesAveraged", g.samplesAveraged},
                     {"specular", g.specular},
                     {"normalDepth", g.normalDepth},
                     {"postProcess", images.dof.output},

@@ -55,6 +55,11 @@ void validateTopology(const Scene& scene) {
                      " is not a multiple of 3");
   }
   if (scene.indices.empty()) throw SceneError("the scene has no triangles");
+  // The raster's visibility images hold a triangle's number as a float, exact below 2^24.
+  constexpr size_t kMaxTriangles = (size_t(1) << 24) - 1;
+  if (scene.triangleCount() > kMaxTriangles)
+    throw SceneError("the scene has " + std::to_string(scene.triangleCount()) +
+                     " triangles; at most " + std::to_string(kMaxTriangles) + " are supported");
   for (uint32_t index : scene.indices) {
     if (index >= scene.vertices.size()) {
       throw SceneError("vertex index " + std::to_string(index) + " out of range (" +

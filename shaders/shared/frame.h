@@ -58,10 +58,17 @@ HDOF_CONST uint kSequenceReference = 0;
 HDOF_CONST uint kSequenceRayTrace = 1;
 HDOF_CONST uint kSequenceHybrid = 2;
 
-// A still view's raster takes this many samples (the pixel centre, then the jitter sequence) and
-// averages them; then it stands: later frames of the view, lens changes among them, reuse its
-// G-buffer and run only what follows it.
-HDOF_CONST uint kMaxRasterSamples = 16;
+// A still view's raster runs this many frames (the pixel centre, then the jitter sequence) and
+// averages their samples; then it stands: later frames of the view, lens changes among them, reuse
+// its G-buffer and run only what follows it.
+HDOF_CONST uint kStillRasterFrames = 16;
+// The first kMultisampledFrames frames of a still view after the first raster kStillRasterSamples
+// samples per pixel (the standard pattern, moved by the frame's jitter): a pixel whose samples see
+// one triangle is shaded once, at one of them, and counts as a sample; one whose samples see
+// several counts as kStillRasterSamples (its edges converge that much faster). Every other frame
+// takes one sample.
+HDOF_CONST uint kMultisampledFrames = 3;
+HDOF_CONST uint kStillRasterSamples = 4;
 
 // Push constants of reference.comp (the reference and raytrace modes).
 struct RayTraceRays {

@@ -246,7 +246,7 @@ TEST(HybridMode, ARestingViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
     return std::any_of(stats.passMs.begin(), stats.passMs.end(),
                        [](const auto& pass) { return pass.first == "ray_mask_edges"; });
   };
-  for (uint32_t i = 0; i < gpu::kMaxRasterSamples; ++i)
+  for (uint32_t i = 0; i < gpu::kStillRasterFrames; ++i)
     EXPECT_TRUE(edges()) << "frame " << i << " draws the G-buffer";
   EXPECT_FALSE(edges()) << "a settled raster and the same lens";
   request.lens.focusDistance = focus * 1.2f;
@@ -337,10 +337,10 @@ TEST(HybridMode, ARestingViewTracesEveryPixel) {
   SceneOnGpu& scene = testScene(spec.scene);
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
   FrameRequest request = requestFor(spec, scene.scene);
-  for (uint32_t frame = 0; frame <= gpu::kMaxRasterSamples; ++frame) {
+  for (uint32_t frame = 0; frame <= gpu::kStillRasterFrames; ++frame) {
     request.settings.frameIndex = frame;
     FrameStats stats = pipeline.render(request);
-    if (frame < gpu::kMaxRasterSamples)
+    if (frame < gpu::kStillRasterFrames)
       EXPECT_LT(stats.maskCoverage, 0.8) << "frame " << frame;
     else
       EXPECT_EQ(stats.maskCoverage, 1.0) << "frame " << frame;
@@ -402,8 +402,8 @@ TEST(HybridMode, AFocusPullOnAStillViewFollowsTheFocus) {
     FrameRequest request = requestFor(spec, scene.scene);
     const float focus = request.lens.focusDistance;
     FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-    for (uint32_t frame = 0; frame < gpu::kMaxRasterSamples + 4; ++frame) {
-      uint32_t pulled = frame < gpu::kMaxRasterSamples ? 0 : frame + 1 - gpu::kMaxRasterSamples;
+    for (uint32_t frame = 0; frame < gpu::kStillRasterFrames + 4; ++frame) {
+      uint32_t pulled = frame < gpu::kStillRasterFrames ? 0 : frame + 1 - gpu::kStillRasterFrames;
       request.lens.focusDistance = focus * (0.6f + 0.1f * float(pulled));
       request.settings.frameIndex = frame;
       pipeline.render(request);

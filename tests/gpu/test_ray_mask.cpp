@@ -177,15 +177,15 @@ TEST(RayMask, NoisyPixelsGetRaysByTheirVarianceAndTrustedOnesAllAtRest) {
   };
   const Lens lens{50.0f, 1.4f, 3.0f};
   setVariance(gpu::kHybridTrustedRays);
-  RayMaskRig::Frame frame = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples - 1);
+  RayMaskRig::Frame frame = rig.render(lens, &variance, 1, gpu::kStillRasterFrames - 1);
   EXPECT_EQ(frame.coverage, 1.0);
   for (uint8_t rays : frame.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
   expectListMatchesMask(frame, rig.width());
-  RayMaskRig::Frame resting = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples);
+  RayMaskRig::Frame resting = rig.render(lens, &variance, 1, gpu::kStillRasterFrames);
   EXPECT_EQ(resting.coverage, 1.0);
   for (uint8_t rays : resting.rays) ASSERT_EQ(rays, kSamplesPerPixel);
   setVariance(gpu::kHybridTrustedRays - 1.0f);
-  RayMaskRig::Frame untrusted = rig.render(lens, &variance, 1, gpu::kMaxRasterSamples);
+  RayMaskRig::Frame untrusted = rig.render(lens, &variance, 1, gpu::kStillRasterFrames);
   for (uint8_t rays : untrusted.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
 }
 
