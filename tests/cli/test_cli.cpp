@@ -214,7 +214,7 @@ TEST(Cli, QualityReusesAReferenceAndMeasuresInMotion) {
   // A path of one keyframe is a still view that the scene does not name: measured as a still
   // (equal time included), from that view, not the scene camera's.
   auto still = out / "still.json";
-  std::ofstream(still) << R"({"keyframes": [{"position": [1.5, 1.2, 4.0], "target": [0, 0.5, 0]}]})";
+  std::ofstream(still) << R"({"keyframes": [{"position": [1.5, 1.2, 4], "target": [0, 0.5, 0]}]})";
   auto stillOut = out / "still";
   Result path = runHdof(common + " --modes postprocess --budget-ms 20 --camera-path " +
                         still.string() + " --out " + stillOut.string());
