@@ -4,6 +4,7 @@
 #include <shared/ray_work.h>
 
 #include <array>
+#include <stdexcept>
 
 namespace hdof {
 namespace {
@@ -74,6 +75,11 @@ gpu::RenderPass createRenderPass(const gpu::Context& context, VkSampleCountFlagB
   return gpu::RenderPass(context.device(), renderPass);
 }
 
+// A still view's first frames after the first: several samples per pixel.
+bool isMultisampledFrame(const gpu::FrameUniforms& uniforms) {
+  return uniforms.rasterSample > 0 && uniforms.rasterSample <= gpu::kMultisampledFrames;
+}
+
 const std::array<gpu::ShaderInterface, 2> kRasterStages = {
     gpu::reflectShader(embeddedShader("gbuffer.vert")),
     gpu::reflectShader(embeddedShader("gbuffer.frag"))};
@@ -86,11 +92,7 @@ GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, con
       runs_(buildTriangleRuns(cpuScene)),
       layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
       single_(makeRaster(VK_SAMPLE_COUNT_1_BIT)),
-      multisampled_(makeRaster(VkSampleCountFlagBits(gpu::kStillRasterSamples))),
       resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
-      resolveFirstTriangle_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 1}}),
-      resolveOtherTriangles_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 2}}),
-      sharedIndirect_(context, "ray_mask_indirect.comp"),
       antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
       antialias_(context, "antialias.comp"),
       antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {}
@@ -170,25 +172,41 @@ GBufferPass::Raster GBufferPass::makeRaster(VkSampleCountFlagBits samples) const
   return raster;
 }
 
+gpu::Framebuffer GBufferPass::makeFramebuffer(const Raster& raster, const gpu::Image& visibility,
+                                              const gpu::Image& depth) const {
+  VkImageView views[] = {visibility.view(), depth.view()};
+  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+  info.renderPass = raster.renderPass;
+  info.attachmentCount = std::size(views);
+  info.pAttachments = views;
+  info.width = extent_.width;
+  info.height = extent_.height;
+  info.layers = 1;
+  VkFramebuffer framebuffer = VK_NULL_HANDLE;
+  VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
+  return gpu::Framebuffer(context_.device(), framebuffer);
+}
+
 void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32_t height) {
-  auto makeFramebuffer = [&](const Raster& raster, const gpu::Image& visibility,
-                             const gpu::Image& depth) {
-    VkImageView views[] = {visibility.view(), depth.view()};
-    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-    info.renderPass = raster.renderPass;
-    info.attachmentCount = std::size(views);
-    info.pAttachments = views;
-    info.width = width;
-    info.height = height;
-    info.layers = 1;
-    VkFramebuffer framebuffer = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
-    return gpu::Framebuffer(context_.device(), framebuffer);
-  };
-  single_.framebuffer = makeFramebuffer(single_, images.visibility, images.depth);
-  multisampled_.framebuffer =
-      makeFramebuffer(multisampled_, images.multisampledVisibility, images.multisampledDepth);
+  images_ = &images;
   extent_ = {width, height};
+  single_.framebuffer = makeFramebuffer(single_, images.visibility, images.depth);
+  if (multisampled_)
+    multisampled_->raster.framebuffer = makeFramebuffer(
+        multisampled_->raster, images.multisampledVisibility, images.multisampledDepth);
+}
+
+void GBufferPass::prepare(const gpu::FrameUniforms& uniforms) {
+  if (!isMultisampledFrame(uniforms) || multisampled_) return;
+  const gpu::SetLayout* sceneLayout = &scene_.setLayout();
+  multisampled_.reset(new Multisampled{
+      makeRaster(VkSampleCountFlagBits(gpu::kStillRasterSamples)),
+      gpu::ComputeProgram(context_, "gbuffer_resolve.comp", sceneLayout, {{"kStep", 1}}),
+      gpu::ComputeProgram(context_, "gbuffer_resolve.comp", sceneLayout, {{"kStep", 2}}),
+      gpu::ComputeProgram(context_, "ray_mask_indirect.comp")});
+  if (images_)
+    multisampled_->raster.framebuffer = makeFramebuffer(
+        multisampled_->raster, images_->multisampledVisibility, images_->multisampledDepth);
 }
 
 void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
@@ -220,11 +238,13 @@ void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, cons
 
 void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
                          const gpu::FrameUniforms& uniforms, bool historyValid) const {
-  // A still view's first frames after the first: several samples per pixel.
-  bool still = uniforms.rasterSample > 0 && uniforms.rasterSample <= gpu::kMultisampledFrames;
+  bool multisampledFrame = isMultisampledFrame(uniforms);
+  if (multisampledFrame && !multisampled_)
+    throw std::logic_error("GBufferPass::record: a multisampled frame without prepare()");
+  const Multisampled* multisampled = multisampledFrame ? multisampled_.get() : nullptr;
   steps.step("visibility", [&](VkCommandBuffer cmd) {
-    drawVisibility(cmd, still ? multisampled_ : single_, gpu::Bind("Frame", steps.frameUniforms()),
-                   uniforms);
+    drawVisibility(cmd, multisampled ? multisampled->raster : single_,
+                   gpu::Bind("Frame", steps.frameUniforms()), uniforms);
   });
   std::initializer_list<gpu::Bind> resolveBindings = {
       {"visibility", images.visibility},
@@ -234,17 +254,17 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
       {"outNormalDepth", images.normalDepth},
       {"outMotion", images.motion},
       {"workList", images.sharedPixels}};
-  if (!still) {
+  if (!multisampled) {
     steps.dispatch(resolve_, resolveBindings, gpu::Grid::over(images.color), {}, "gbuffer");
   } else {
     steps.step("gbuffer_list_clear", [&](VkCommandBuffer cmd) {
       vkCmdFillBuffer(cmd, images.sharedPixels.get(), 0, sizeof(gpu::RayWorkHeader), 0);
     });
-    steps.dispatch(resolveFirstTriangle_, resolveBindings, gpu::Grid::over(images.color), {},
-                   "gbuffer");
-    steps.dispatch(sharedIndirect_, {{"workList", images.sharedPixels}}, gpu::Grid::threads(1),
-                   {}, "gbuffer_list");
-    steps.dispatch(resolveOtherTriangles_, resolveBindings,
+    steps.dispatch(multisampled->resolveFirstTriangle, resolveBindings,
+                   gpu::Grid::over(images.color), {}, "gbuffer");
+    steps.dispatch(multisampled->sharedIndirect, {{"workList", images.sharedPixels}},
+                   gpu::Grid::threads(1), {}, "gbuffer_list");
+    steps.dispatch(multisampled->resolveOtherTriangles, resolveBindings,
                    gpu::Grid::indirect(images.sharedPixels), {}, "gbuffer_shared");
   }
   steps.step("antialias_history", [&](VkCommandBuffer cmd) {

@@ -13,14 +13,19 @@
 
 #include <shared/frame.h>
 
+#include <memory>
+
 namespace hdof {
 
 class GBufferPass {
  public:
   GBufferPass(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene);
 
-  // Makes the framebuffer for a new set of images (call after they change).
+  // Makes the framebuffers for a new set of images (call after they change).
   void bindImages(const GBufferImages& images, uint32_t width, uint32_t height);
+  // Makes what a multisampled frame runs (its raster and resolve steps) if `uniforms` is the
+  // first such frame: a session that never rests does not compile them (call before record).
+  void prepare(const gpu::FrameUniforms& uniforms);
   // The steps "visibility", "gbuffer" (the resolve) and "antialias". uniforms: the frame's (its
   // viewProj culls on the CPU; its rasterSample picks the anti-aliasing's pipeline).
   // historyValid: images.color holds the previous frame's anti-aliased colour (false after a cut
@@ -36,18 +41,27 @@ class GBufferPass {
     gpu::Pipeline pipeline;
   };
   Raster makeRaster(VkSampleCountFlagBits samples) const;
+  gpu::Framebuffer makeFramebuffer(const Raster& raster, const gpu::Image& visibility,
+                                   const gpu::Image& depth) const;
   void drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
                       const gpu::FrameUniforms& uniforms) const;
+
+  // The multisampled frames' raster and gbuffer_resolve.comp's steps for them: the first triangle
+  // of several samples, the others, and the dispatch size of the last (ray_mask_indirect.comp).
+  struct Multisampled {
+    Raster raster;
+    gpu::ComputeProgram resolveFirstTriangle, resolveOtherTriangles, sharedIndirect;
+  };
 
   const gpu::Context& context_;
   const GpuScene& scene_;
   std::vector<TriangleRun> runs_;
   gpu::ProgramLayout layout_;
-  Raster single_, multisampled_;
+  Raster single_;
+  std::unique_ptr<Multisampled> multisampled_;
+  const GBufferImages* images_ = nullptr;
   VkExtent2D extent_{};
-  // gbuffer_resolve.comp's steps: one sample per pixel; the first triangle of several samples,
-  // the others; and the dispatch size of the last (ray_mask_indirect.comp).
-  gpu::ComputeProgram resolve_, resolveFirstTriangle_, resolveOtherTriangles_, sharedIndirect_;
+  gpu::ComputeProgram resolve_;
   // antialias.comp for a still view's later samples, for the frames in motion, and for the first
   // frame after a cut.
   gpu::ComputeProgram antialiasStill_, antialias_, antialiasFirst_;
