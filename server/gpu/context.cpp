@@ -287,6 +287,7 @@ Context::Context(const ContextOptions& options) {
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    shared_.clear();
     vkDestroyPipelineCache(device_, pipelineCache_, nullptr);
     vkDestroySampler(device_, nearestSampler_, nullptr);
     vkDestroyCommandPool(device_, commandPool_, nullptr);

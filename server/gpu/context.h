@@ -6,7 +6,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <typeinfo>
 #include <vector>
 
 namespace hdof::gpu {
@@ -41,6 +45,27 @@ class Context {
   // it rather than from the driver's compiler.
   VkPipelineCache pipelineCache() const { return pipelineCache_; }
 
+  // An object that never changes once made, made at the first request for its key and shared by
+  // every later one until the context goes: the pipelines and layouts that every session's passes
+  // have in common, so that a new session compiles nothing. make() returns the object.
+  template <typename T, typename Make>
+  std::shared_ptr<const T> shared(const std::string& key, Make&& make) const {
+    std::string typedKey = std::string(typeid(T).name()) + '|' + key;
+    {
+      std::lock_guard lock(sharedMutex_);
+      if (auto found = shared_.find(typedKey); found != shared_.end())
+        return std::static_pointer_cast<const T>(found->second);
+    }
+    std::shared_ptr<const void> made = std::make_shared<const T>(make());
+    std::lock_guard lock(sharedMutex_);
+    return std::static_pointer_cast<const T>(shared_.emplace(typedKey, made).first->second);
+  }
+  // How many shared objects have been made.
+  size_t sharedObjects() const {
+    std::lock_guard lock(sharedMutex_);
+    return shared_.size();
+  }
+
   // Records commands into a fresh command buffer, submits it and waits for it to finish.
   void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
 
@@ -73,6 +98,8 @@ class Context {
   VkPhysicalDeviceMemoryProperties memoryProperties_{};
   bool timestampsSupported_ = false;
   PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
+  mutable std::mutex sharedMutex_;
+  mutable std::map<std::string, std::shared_ptr<const void>> shared_;
 };
 
 }  // namespace hdof::gpu

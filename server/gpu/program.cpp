@@ -89,6 +89,14 @@ SetLayout createSetLayout(const Context& context,
   return {DescriptorSetLayout(context.device(), layout), std::move(bindings)};
 }
 
+std::string SetLayout::key() const {
+  std::string key;
+  for (const VkDescriptorSetLayoutBinding& b : bindings)
+    key += std::to_string(b.binding) + ':' + std::to_string(b.descriptorType) + 'x' +
+           std::to_string(b.descriptorCount) + ',';
+  return key;
+}
+
 ProgramLayout::ProgramLayout(const Context& context, const std::string& name,
                              std::span<const ShaderInterface> stages, const SetLayout* sceneSet)
     : context_(&context), name_(name), passBindings_(bindingsOfSet(name, stages, kPassSet)) {
@@ -172,12 +180,23 @@ void ProgramLayout::bind(VkCommandBuffer cmd, VkPipelineBindPoint bindPoint,
 
 ComputeProgram::ComputeProgram(const Context& context, const std::string& shaderName,
                                const SetLayout* sceneSet,
-                               std::initializer_list<Specialize> constants)
-    : name_(stem(shaderName)),
-      interface_(reflectShader(embeddedShader(shaderName))),
-      layout_(context, shaderName, std::span(&interface_, 1), sceneSet) {
-  if (interface_.stage != VK_SHADER_STAGE_COMPUTE_BIT)
+                               std::initializer_list<Specialize> constants) {
+  std::string key = shaderName + '|' + (sceneSet ? sceneSet->key() : "no scene");
+  for (const Specialize& constant : constants)
+    key += '|' + std::string(constant.name) + '=' + std::to_string(constant.value);
+  compiled_ = context.shared<Compiled>(
+      key, [&] { return compile(context, shaderName, sceneSet, constants); });
+}
+
+ComputeProgram::Compiled ComputeProgram::compile(const Context& context,
+                                                 const std::string& shaderName,
+                                                 const SetLayout* sceneSet,
+                                                 std::initializer_list<Specialize> constants) {
+  ShaderInterface interface = reflectShader(embeddedShader(shaderName));
+  if (interface.stage != VK_SHADER_STAGE_COMPUTE_BIT)
     throw std::logic_error(shaderName + " is not a compute shader");
+  Compiled compiled{stem(shaderName), interface,
+                    ProgramLayout(context, shaderName, std::span(&interface, 1), sceneSet), {}};
   ShaderModule module = createShaderModule(context, shaderName);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -188,10 +207,10 @@ ComputeProgram::ComputeProgram(const Context& context, const std::string& shader
   std::vector<uint32_t> values;
   for (const Specialize& constant : constants) {
     auto declared = std::find_if(
-        interface_.specConstants.begin(), interface_.specConstants.end(),
+        interface.specConstants.begin(), interface.specConstants.end(),
         [&](const ShaderSpecConstant& c) { return c.name == constant.name; });
-    if (declared == interface_.specConstants.end() || declared->size != sizeof(uint32_t))
-      throw std::logic_error(name_ + " has no 32-bit specialization constant '" +
+    if (declared == interface.specConstants.end() || declared->size != sizeof(uint32_t))
+      throw std::logic_error(compiled.name + " has no 32-bit specialization constant '" +
                              constant.name + "'");
     entries.push_back({declared->id, uint32_t(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
     values.push_back(constant.value);
@@ -199,22 +218,23 @@ ComputeProgram::ComputeProgram(const Context& context, const std::string& shader
   VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(),
                                       values.size() * sizeof(uint32_t), values.data()};
   if (!entries.empty()) info.stage.pSpecializationInfo = &specialization;
-  info.layout = layout_.get();
+  info.layout = compiled.layout.get();
   VkPipeline pipeline = VK_NULL_HANDLE;
   VK_CHECK(vkCreateComputePipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
                                     &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline), shaderName);
-  pipeline_ = Pipeline(context.device(), pipeline);
+  compiled.pipeline = Pipeline(context.device(), pipeline);
+  return compiled;
 }
 
 void ComputeProgram::record(VkCommandBuffer cmd, std::span<const Bind> binds, const Grid& grid,
                             PushConstants push) const {
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  layout_.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binds, push);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->pipeline);
+  compiled_->layout.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binds, push);
   if (grid.arguments) {
     vkCmdDispatchIndirect(cmd, grid.arguments->get(), grid.offset);
   } else {
-    const std::array<uint32_t, 3>& size = interface_.localSize;
+    const std::array<uint32_t, 3>& size = compiled_->interface.localSize;
     vkCmdDispatch(cmd, (grid.x + size[0] - 1) / size[0], (grid.y + size[1] - 1) / size[1], 1);
   }
 }

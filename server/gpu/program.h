@@ -10,6 +10,7 @@
 #include "gpu/shader_interface.h"
 
 #include <initializer_list>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ ShaderModule createShaderModule(const Context& context, const std::string& name)
 struct SetLayout {
   DescriptorSetLayout handle;
   std::vector<VkDescriptorSetLayoutBinding> bindings;
+  // The bindings as text: pipelines made for one layout work with any layout of the same key.
+  std::string key() const;
 };
 
 SetLayout createSetLayout(const Context& context,
@@ -100,7 +103,8 @@ struct Specialize {
   uint32_t value;
 };
 
-// A compute shader (shaders/NAME.comp, embedded) with its pipeline.
+// A compute shader (shaders/NAME.comp, embedded) with its pipeline. Programs of the same shader,
+// constants and scene layout share one pipeline, made by the first (Context::shared).
 class ComputeProgram {
  public:
   // sceneSet: the scene's set layout, required when the shader reads set 0. constants: values for
@@ -111,10 +115,10 @@ class ComputeProgram {
                  std::initializer_list<Specialize> constants = {});
 
   // The shader's file name without its extension: "dof_gather".
-  const std::string& name() const { return name_; }
-  const ShaderInterface& interface() const { return interface_; }
-  bool readsScene() const { return layout_.readsScene(); }
-  VkPipelineLayout layout() const { return layout_.get(); }
+  const std::string& name() const { return compiled_->name; }
+  const ShaderInterface& interface() const { return compiled_->interface; }
+  bool readsScene() const { return compiled_->layout.readsScene(); }
+  VkPipelineLayout layout() const { return compiled_->layout.get(); }
 
   // Binds the pipeline, pushes binds and push constants, and dispatches grid. The scene's set
   // (when the shader reads it) is the caller's to bind.
@@ -122,10 +126,16 @@ class ComputeProgram {
               PushConstants push = {}) const;
 
  private:
-  std::string name_;
-  ShaderInterface interface_;
-  ProgramLayout layout_;
-  Pipeline pipeline_;
+  struct Compiled {
+    std::string name;
+    ShaderInterface interface;
+    ProgramLayout layout;
+    Pipeline pipeline;
+  };
+  static Compiled compile(const Context& context, const std::string& shaderName,
+                          const SetLayout* sceneSet, std::initializer_list<Specialize> constants);
+
+  std::shared_ptr<const Compiled> compiled_;
 };
 
 }  // namespace hdof::gpu

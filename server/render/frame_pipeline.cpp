@@ -177,7 +177,6 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);
   std::memcpy(frameUniforms_.mapped(), &uniforms, sizeof(uniforms));
-  if (raster) gbuffer_.prepare(uniforms);
 
   // raytrace accumulates while the camera and lens stay the same and starts over when they
   // change; reference does as the request says.

@@ -75,33 +75,10 @@ gpu::RenderPass createRenderPass(const gpu::Context& context, VkSampleCountFlagB
   return gpu::RenderPass(context.device(), renderPass);
 }
 
-// A still view's first frames after the first: several samples per pixel.
-bool isMultisampledFrame(const gpu::FrameUniforms& uniforms) {
-  return uniforms.rasterSample > 0 && uniforms.rasterSample <= gpu::kMultisampledFrames;
-}
-
-const std::array<gpu::ShaderInterface, 2> kRasterStages = {
-    gpu::reflectShader(embeddedShader("gbuffer.vert")),
-    gpu::reflectShader(embeddedShader("gbuffer.frag"))};
-
-}  // namespace
-
-GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, const GpuScene& scene)
-    : context_(context),
-      scene_(scene),
-      runs_(buildTriangleRuns(cpuScene)),
-      layout_(context, "gbuffer", kRasterStages, &scene.setLayout()),
-      single_(makeRaster(VK_SAMPLE_COUNT_1_BIT)),
-      resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
-      antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
-      antialias_(context, "antialias.comp"),
-      antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {}
-
-GBufferPass::Raster GBufferPass::makeRaster(VkSampleCountFlagBits samples) const {
-  Raster raster;
-  raster.renderPass = createRenderPass(context_, samples);
-  gpu::ShaderModule vertex = gpu::createShaderModule(context_, "gbuffer.vert");
-  gpu::ShaderModule fragment = gpu::createShaderModule(context_, "gbuffer.frag");
+gpu::Pipeline createRasterPipeline(const gpu::Context& context, VkPipelineLayout layout,
+                                   VkRenderPass renderPass, VkSampleCountFlagBits samples) {
+  gpu::ShaderModule vertex = gpu::createShaderModule(context, "gbuffer.vert");
+  gpu::ShaderModule fragment = gpu::createShaderModule(context, "gbuffer.frag");
   VkPipelineShaderStageCreateInfo stages[2] = {};
   stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -161,62 +138,84 @@ GBufferPass::Raster GBufferPass::makeRaster(VkSampleCountFlagBits samples) const
   info.pDepthStencilState = &depth;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = layout_.get();
-  info.renderPass = raster.renderPass;
+  info.layout = layout;
+  info.renderPass = renderPass;
   VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateGraphicsPipelines(context_.device(), context_.pipelineCache(), 1, &info, nullptr,
+  VK_CHECK(vkCreateGraphicsPipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
                                      &pipeline));
-  context_.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline),
+  context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline),
                    samples == VK_SAMPLE_COUNT_1_BIT ? "gbuffer" : "gbuffer multisampled");
-  raster.pipeline = gpu::Pipeline(context_.device(), pipeline);
-  return raster;
+  return gpu::Pipeline(context.device(), pipeline);
 }
 
-gpu::Framebuffer GBufferPass::makeFramebuffer(const Raster& raster, const gpu::Image& visibility,
-                                              const gpu::Image& depth) const {
-  VkImageView views[] = {visibility.view(), depth.view()};
-  VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
-  info.renderPass = raster.renderPass;
-  info.attachmentCount = std::size(views);
-  info.pAttachments = views;
-  info.width = extent_.width;
-  info.height = extent_.height;
-  info.layers = 1;
-  VkFramebuffer framebuffer = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &framebuffer));
-  return gpu::Framebuffer(context_.device(), framebuffer);
+// A still view's first frames after the first: several samples per pixel.
+bool isMultisampledFrame(const gpu::FrameUniforms& uniforms) {
+  return uniforms.rasterSample > 0 && uniforms.rasterSample <= gpu::kMultisampledFrames;
 }
+
+const std::array<gpu::ShaderInterface, 2> kRasterStages = {
+    gpu::reflectShader(embeddedShader("gbuffer.vert")),
+    gpu::reflectShader(embeddedShader("gbuffer.frag"))};
+
+}  // namespace
+
+struct GBufferPass::Rasters {
+  Rasters(const gpu::Context& context, const gpu::SetLayout& sceneSet)
+      : layout(context, "gbuffer", kRasterStages, &sceneSet),
+        singlePass(createRenderPass(context, VK_SAMPLE_COUNT_1_BIT)),
+        multisampledPass(createRenderPass(context, kMultisampled)),
+        single(createRasterPipeline(context, layout.get(), singlePass, VK_SAMPLE_COUNT_1_BIT)),
+        multisampled(createRasterPipeline(context, layout.get(), multisampledPass, kMultisampled)) {}
+
+  static constexpr auto kMultisampled = VkSampleCountFlagBits(gpu::kStillRasterSamples);
+  gpu::ProgramLayout layout;
+  gpu::RenderPass singlePass, multisampledPass;
+  gpu::Pipeline single, multisampled;
+};
+
+GBufferPass::GBufferPass(const gpu::Context& context, const Scene& cpuScene, const GpuScene& scene)
+    : context_(context),
+      scene_(scene),
+      runs_(buildTriangleRuns(cpuScene)),
+      rasters_(context.shared<Rasters>("gbuffer|" + scene.setLayout().key(),
+                                       [&] { return Rasters(context, scene.setLayout()); })),
+      resolve_(context, "gbuffer_resolve.comp", &scene.setLayout()),
+      resolveFirstTriangle_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 1}}),
+      resolveOtherTriangles_(context, "gbuffer_resolve.comp", &scene.setLayout(), {{"kStep", 2}}),
+      sharedIndirect_(context, "ray_mask_indirect.comp"),
+      antialiasStill_(context, "antialias.comp", nullptr, {{"kStillSamples", 1}}),
+      antialias_(context, "antialias.comp"),
+      antialiasFirst_(context, "antialias.comp", nullptr, {{"kFirstSample", 1}}) {}
 
 void GBufferPass::bindImages(const GBufferImages& images, uint32_t width, uint32_t height) {
-  images_ = &images;
   extent_ = {width, height};
-  single_.framebuffer = makeFramebuffer(single_, images.visibility, images.depth);
-  if (multisampled_)
-    multisampled_->raster.framebuffer = makeFramebuffer(
-        multisampled_->raster, images.multisampledVisibility, images.multisampledDepth);
+  auto framebuffer = [&](VkRenderPass renderPass, const gpu::Image& visibility,
+                         const gpu::Image& depth) {
+    VkImageView views[] = {visibility.view(), depth.view()};
+    VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+    info.renderPass = renderPass;
+    info.attachmentCount = std::size(views);
+    info.pAttachments = views;
+    info.width = width;
+    info.height = height;
+    info.layers = 1;
+    VkFramebuffer handle = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFramebuffer(context_.device(), &info, nullptr, &handle));
+    return gpu::Framebuffer(context_.device(), handle);
+  };
+  singleFramebuffer_ = framebuffer(rasters_->singlePass, images.visibility, images.depth);
+  multisampledFramebuffer_ = framebuffer(rasters_->multisampledPass, images.multisampledVisibility,
+                                         images.multisampledDepth);
 }
 
-void GBufferPass::prepare(const gpu::FrameUniforms& uniforms) {
-  if (!isMultisampledFrame(uniforms) || multisampled_) return;
-  const gpu::SetLayout* sceneLayout = &scene_.setLayout();
-  multisampled_.reset(new Multisampled{
-      makeRaster(VkSampleCountFlagBits(gpu::kStillRasterSamples)),
-      gpu::ComputeProgram(context_, "gbuffer_resolve.comp", sceneLayout, {{"kStep", 1}}),
-      gpu::ComputeProgram(context_, "gbuffer_resolve.comp", sceneLayout, {{"kStep", 2}}),
-      gpu::ComputeProgram(context_, "ray_mask_indirect.comp")});
-  if (images_)
-    multisampled_->raster.framebuffer = makeFramebuffer(
-        multisampled_->raster, images_->multisampledVisibility, images_->multisampledDepth);
-}
-
-void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
+void GBufferPass::drawVisibility(VkCommandBuffer cmd, bool multisampled, const gpu::Bind& frame,
                                  const gpu::FrameUniforms& uniforms) const {
   VkClearValue clears[2] = {};
   clears[0].color.float32[0] = -1.0f;  // no triangle
   clears[1].depthStencil = {1.0f, 0};
   VkRenderPassBeginInfo begin{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
-  begin.renderPass = raster.renderPass;
-  begin.framebuffer = raster.framebuffer;
+  begin.renderPass = multisampled ? rasters_->multisampledPass : rasters_->singlePass;
+  begin.framebuffer = multisampled ? multisampledFramebuffer_ : singleFramebuffer_;
   begin.renderArea = {{0, 0}, extent_};
   begin.clearValueCount = 2;
   begin.pClearValues = clears;
@@ -225,9 +224,11 @@ void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, cons
   VkRect2D scissor{{0, 0}, extent_};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, raster.pipeline);
-  if (layout_.readsScene()) scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.get());
-  layout_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, std::span(&frame, 1), {});
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                    multisampled ? rasters_->multisampled : rasters_->single);
+  const gpu::ProgramLayout& layout = rasters_->layout;
+  if (layout.readsScene()) scene_.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout.get());
+  layout.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, std::span(&frame, 1), {});
   VkBuffer corners = scene_.cornerBuffer().get();
   VkDeviceSize offset = 0;
   vkCmdBindVertexBuffers(cmd, 0, 1, &corners, &offset);
@@ -238,13 +239,9 @@ void GBufferPass::drawVisibility(VkCommandBuffer cmd, const Raster& raster, cons
 
 void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
                          const gpu::FrameUniforms& uniforms, bool historyValid) const {
-  bool multisampledFrame = isMultisampledFrame(uniforms);
-  if (multisampledFrame && !multisampled_)
-    throw std::logic_error("GBufferPass::record: a multisampled frame without prepare()");
-  const Multisampled* multisampled = multisampledFrame ? multisampled_.get() : nullptr;
+  bool multisampled = isMultisampledFrame(uniforms);
   steps.step("visibility", [&](VkCommandBuffer cmd) {
-    drawVisibility(cmd, multisampled ? multisampled->raster : single_,
-                   gpu::Bind("Frame", steps.frameUniforms()), uniforms);
+    drawVisibility(cmd, multisampled, gpu::Bind("Frame", steps.frameUniforms()), uniforms);
   });
   std::initializer_list<gpu::Bind> resolveBindings = {
       {"visibility", images.visibility},
@@ -260,11 +257,11 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
     steps.step("gbuffer_list_clear", [&](VkCommandBuffer cmd) {
       vkCmdFillBuffer(cmd, images.sharedPixels.get(), 0, sizeof(gpu::RayWorkHeader), 0);
     });
-    steps.dispatch(multisampled->resolveFirstTriangle, resolveBindings,
+    steps.dispatch(resolveFirstTriangle_, resolveBindings,
                    gpu::Grid::over(images.color), {}, "gbuffer");
-    steps.dispatch(multisampled->sharedIndirect, {{"workList", images.sharedPixels}},
+    steps.dispatch(sharedIndirect_, {{"workList", images.sharedPixels}},
                    gpu::Grid::threads(1), {}, "gbuffer_list");
-    steps.dispatch(multisampled->resolveOtherTriangles, resolveBindings,
+    steps.dispatch(resolveOtherTriangles_, resolveBindings,
                    gpu::Grid::indirect(images.sharedPixels), {}, "gbuffer_shared");
   }
   steps.step("antialias_history", [&](VkCommandBuffer cmd) {

@@ -23,9 +23,6 @@ class GBufferPass {
 
   // Makes the framebuffers for a new set of images (call after they change).
   void bindImages(const GBufferImages& images, uint32_t width, uint32_t height);
-  // Makes what a multisampled frame runs (its raster and resolve steps) if `uniforms` is the
-  // first such frame: a session that never rests does not compile them (call before record).
-  void prepare(const gpu::FrameUniforms& uniforms);
   // The steps "visibility", "gbuffer" (the resolve) and "antialias". uniforms: the frame's (its
   // viewProj culls on the CPU; its rasterSample picks the anti-aliasing's pipeline).
   // historyValid: images.color holds the previous frame's anti-aliased colour (false after a cut
@@ -34,34 +31,23 @@ class GBufferPass {
               bool historyValid) const;
 
  private:
-  // The visibility pass at one sample per pixel, and at kStillRasterSamples.
-  struct Raster {
-    gpu::RenderPass renderPass;
-    gpu::Framebuffer framebuffer;
-    gpu::Pipeline pipeline;
-  };
-  Raster makeRaster(VkSampleCountFlagBits samples) const;
-  gpu::Framebuffer makeFramebuffer(const Raster& raster, const gpu::Image& visibility,
-                                   const gpu::Image& depth) const;
-  void drawVisibility(VkCommandBuffer cmd, const Raster& raster, const gpu::Bind& frame,
-                      const gpu::FrameUniforms& uniforms) const;
+  // The visibility pass's pipeline layout, and its render passes and pipelines at one sample per
+  // pixel and at kStillRasterSamples: made once, shared by every session (Context::shared).
+  struct Rasters;
 
-  // The multisampled frames' raster and gbuffer_resolve.comp's steps for them: the first triangle
-  // of several samples, the others, and the dispatch size of the last (ray_mask_indirect.comp).
-  struct Multisampled {
-    Raster raster;
-    gpu::ComputeProgram resolveFirstTriangle, resolveOtherTriangles, sharedIndirect;
-  };
+  void drawVisibility(VkCommandBuffer cmd, bool multisampled, const gpu::Bind& frame,
+                      const gpu::FrameUniforms& uniforms) const;
 
   const gpu::Context& context_;
   const GpuScene& scene_;
   std::vector<TriangleRun> runs_;
-  gpu::ProgramLayout layout_;
-  Raster single_;
-  std::unique_ptr<Multisampled> multisampled_;
-  const GBufferImages* images_ = nullptr;
+  std::shared_ptr<const Rasters> rasters_;
+  gpu::Framebuffer singleFramebuffer_, multisampledFramebuffer_;
   VkExtent2D extent_{};
-  gpu::ComputeProgram resolve_;
+  // gbuffer_resolve.comp for one sample per pixel; for a multisampled frame, its steps for the
+  // first triangle of each pixel's samples and for the others, and the dispatch size of the last
+  // (ray_mask_indirect.comp).
+  gpu::ComputeProgram resolve_, resolveFirstTriangle_, resolveOtherTriangles_, sharedIndirect_;
   // antialias.comp for a still view's later samples, for the frames in motion, and for the first
   // frame after a cut.
   gpu::ComputeProgram antialiasStill_, antialias_, antialiasFirst_;

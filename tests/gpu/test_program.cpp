@@ -103,6 +103,26 @@ TEST(ComputeProgram, SpecializesConstantsByName) {
   EXPECT_NE(error.find("no 32-bit specialization constant 'kLists'"), std::string::npos) << error;
 }
 
+TEST(ComputeProgram, ProgramsOfOneShaderConstantsAndSceneLayoutShareAPipeline) {
+  SceneOnGpu& wall = testScene("builtin:wall");
+  SceneOnGpu& dof = testScene("builtin:dof");
+  auto resolveLayout = [&](SceneOnGpu& scene, uint32_t step) {
+    return gpu::ComputeProgram(testContext(), "gbuffer_resolve.comp", &scene.gpu->setLayout(),
+                               {{"kStep", step}})
+        .layout();
+  };
+  // Another scene's set layout has the same bindings: its programs are the same.
+  EXPECT_EQ(resolveLayout(wall, 1), resolveLayout(dof, 1));
+  EXPECT_NE(resolveLayout(wall, 1), resolveLayout(wall, 2));
+  EXPECT_NE(gpu::ComputeProgram(testContext(), "antialias.comp").layout(),
+            gpu::ComputeProgram(testContext(), "dof_tiles.comp").layout());
+  // A session's pipeline made after another's compiles nothing new: the first keeps them alive.
+  FramePipeline first(testContext(), wall.scene, *wall.gpu, 32, 16);
+  size_t made = testContext().sharedObjects();
+  FramePipeline second(testContext(), dof.scene, *dof.gpu, 48, 16);
+  EXPECT_EQ(testContext().sharedObjects(), made);
+}
+
 TEST(ComputeProgram, AShaderThatReadsTheSceneNeedsIt) {
   std::string error = errorOf([] { gpu::ComputeProgram(testContext(), "reference.comp"); });
   EXPECT_NE(error.find("reads the scene"), std::string::npos) << error;

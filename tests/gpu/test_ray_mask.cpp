@@ -67,7 +67,6 @@ class RayMaskRig {
     for (uint32_t sample : std::set<uint32_t>{0u, rasterSample}) {
       uniforms.rasterSample = sample;
       std::memcpy(uniformBuffer_.mapped(), &uniforms, sizeof(uniforms));
-      gbuffer_.prepare(uniforms);
       testContext().submitAndWait([&](VkCommandBuffer cmd) {
         timer_.reset(cmd);
         StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
