@@ -16,6 +16,7 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -234,6 +235,15 @@ int runServe(std::span<const std::string> args) {
   LoadedScene loaded = loadSceneWithBvh(sceneOptions);
   gpu::Context context(contextOptions(sceneOptions));
   GpuScene gpuScene(context, loaded.scene, loaded.bvh);
+  // Before listening: the first session's frames do not wait for a pipeline to compile.
+  auto warmUpStart = std::chrono::steady_clock::now();
+  warmUpPipelines(context, loaded.scene, gpuScene);
+  char warmUpS[32];
+  std::snprintf(warmUpS, sizeof(warmUpS), "%.1f",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - warmUpStart)
+                    .count());
+  net::logEvent("pipelines_ready", "duration_s=" + std::string(warmUpS) +
+                                       " programs=" + std::to_string(context.sharedObjects()));
 
   net::Metrics metrics;
   net::RenderLoop renderLoop(context, loaded.scene, gpuScene, loaded.bvh, metrics,

@@ -75,7 +75,7 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
   gpu::FrameUniforms uniforms =
       makeFrameUniforms(scene, request.camera, request.lens, request.settings);
   for (RenderMode mode :
-       {RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::Hybrid, RenderMode::RayTrace}) {
+       {RenderMode::Hybrid, RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::RayTrace}) {
     request.mode = mode;
     timer_.reset(commandBuffer_);
     record(commandBuffer_, request, uniforms, {});
@@ -298,6 +298,37 @@ ImageRgba8 FramePipeline::image() const {
   image.pixels.resize(size_t(image.width) * image.height * 4);
   std::memcpy(image.pixels.data(), images_->readback.mapped(), image.pixels.size());
   return image;
+}
+
+void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene) {
+  // No side a power of two, as few viewports have: llvmpipe compiles a shader again for images
+  // whose sides are (a warm-up at 64x36 left every 320x180 session's first frame to compile).
+  constexpr uint32_t kWidth = 66, kHeight = 38;
+  FramePipeline pipeline(context, scene, gpuScene, kWidth, kHeight);
+  FrameRequest request;
+  request.settings.width = kWidth;
+  request.settings.height = kHeight;
+  request.lens.fNumber = 1.4f;
+  request.timePasses = false;
+  Camera view = scene.cameras.empty() ? Camera{} : Camera::fromScene(scene.cameras.front());
+  Camera moved = view;
+  moved.position -= 0.05f * view.forward;
+  Lens lens = request.lens;
+  for (RenderMode mode :
+       {RenderMode::Hybrid, RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::RayTrace}) {
+    request.mode = mode;
+    request.lens = lens;
+    pipeline.cut();
+    request.camera = moved;
+    pipeline.render(request);
+    request.camera = view;
+    // The hybrid's frames at rest run other steps once the raster has all its samples; the
+    // other modes' still frames run only steps that the hybrid's do.
+    uint32_t stillFrames = mode == RenderMode::Hybrid ? gpu::kStillRasterFrames + 1 : 1;
+    for (uint32_t frame = 0; frame <= stillFrames; ++frame) pipeline.render(request);
+    request.lens.focusDistance *= 2.0f;
+    pipeline.render(request);
+  }
 }
 
 }  // namespace hdof

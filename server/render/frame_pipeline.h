@@ -150,4 +150,10 @@ class FramePipeline {
   } accumulation_;
 };
 
+// Renders a few frames of every streamed mode at a small size (a cut, a move, a still view's
+// frames to past its raster's last sample, a focus pull), so that each pipeline a session runs has
+// run once. The pipelines are the process's (gpu::Context::shared): on a driver that compiles a
+// pipeline at its first use (lavapipe), no session's frame then waits for the compiler.
+void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene);
+
 }  // namespace hdof

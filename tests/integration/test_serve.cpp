@@ -103,6 +103,11 @@ TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
   EXPECT_EQ(frame->stats["bytes"], frame->jpeg.size());
   EXPECT_TRUE(frame->stats["passes_ms"].contains("gbuffer"));
   EXPECT_NEAR(frame->stats["fov_y_deg"].get<double>(), cameraFov, 1e-3);
+  // Every pipeline ran once before the daemon listened.
+  std::string log = daemon.log();
+  size_t ready = log.find("event=pipelines_ready");
+  ASSERT_NE(ready, std::string::npos) << log;
+  EXPECT_LT(ready, log.find("event=listening")) << log;
 }
 
 TEST(Serve, ALongerLensNarrowsTheFieldOfViewAndASensorWidensIt) {
