@@ -239,9 +239,9 @@ int runServe(std::span<const std::string> args) {
   auto warmUpStart = std::chrono::steady_clock::now();
   warmUpPipelines(context, loaded.scene, gpuScene);
   char warmUpS[32];
-  std::snprintf(warmUpS, sizeof(warmUpS), "%.1f",
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - warmUpStart)
-                    .count());
+  std::snprintf(
+      warmUpS, sizeof(warmUpS), "%.1f",
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - warmUpStart).count());
   net::logEvent("pipelines_ready", "duration_s=" + std::string(warmUpS) +
                                        " programs=" + std::to_string(context.sharedObjects()));
 

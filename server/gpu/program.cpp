@@ -195,8 +195,10 @@ ComputeProgram::Compiled ComputeProgram::compile(const Context& context,
   ShaderInterface interface = reflectShader(embeddedShader(shaderName));
   if (interface.stage != VK_SHADER_STAGE_COMPUTE_BIT)
     throw std::logic_error(shaderName + " is not a compute shader");
-  Compiled compiled{stem(shaderName), interface,
-                    ProgramLayout(context, shaderName, std::span(&interface, 1), sceneSet), {}};
+  Compiled compiled{stem(shaderName),
+                    interface,
+                    ProgramLayout(context, shaderName, std::span(&interface, 1), sceneSet),
+                    {}};
   ShaderModule module = createShaderModule(context, shaderName);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
@@ -206,9 +208,9 @@ ComputeProgram::Compiled ComputeProgram::compile(const Context& context,
   std::vector<VkSpecializationMapEntry> entries;
   std::vector<uint32_t> values;
   for (const Specialize& constant : constants) {
-    auto declared = std::find_if(
-        interface.specConstants.begin(), interface.specConstants.end(),
-        [&](const ShaderSpecConstant& c) { return c.name == constant.name; });
+    auto declared =
+        std::find_if(interface.specConstants.begin(), interface.specConstants.end(),
+                     [&](const ShaderSpecConstant& c) { return c.name == constant.name; });
     if (declared == interface.specConstants.end() || declared->size != sizeof(uint32_t))
       throw std::logic_error(compiled.name + " has no 32-bit specialization constant '" +
                              constant.name + "'");

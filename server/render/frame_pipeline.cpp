@@ -75,7 +75,7 @@ FramePipeline::FramePipeline(const gpu::Context& context, const Scene& scene,
   gpu::FrameUniforms uniforms =
       makeFrameUniforms(scene, request.camera, request.lens, request.settings);
   for (RenderMode mode :
-       {RenderMode::Hybrid, RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::RayTrace}) {
+       {RenderMode::Pinhole, RenderMode::PostProcess, RenderMode::Hybrid, RenderMode::RayTrace}) {
     request.mode = mode;
     timer_.reset(commandBuffer_);
     record(commandBuffer_, request, uniforms, {});

@@ -144,7 +144,7 @@ gpu::Pipeline createRasterPipeline(const gpu::Context& context, VkPipelineLayout
   VK_CHECK(vkCreateGraphicsPipelines(context.device(), context.pipelineCache(), 1, &info, nullptr,
                                      &pipeline));
   context.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline),
-                   samples == VK_SAMPLE_COUNT_1_BIT ? "gbuffer" : "gbuffer multisampled");
+                  samples == VK_SAMPLE_COUNT_1_BIT ? "gbuffer" : "gbuffer multisampled");
   return gpu::Pipeline(context.device(), pipeline);
 }
 
@@ -163,11 +163,11 @@ struct GBufferPass::Rasters {
   Rasters(const gpu::Context& context, const gpu::SetLayout& sceneSet)
       : layout(context, "gbuffer", kRasterStages, &sceneSet),
         singlePass(createRenderPass(context, VK_SAMPLE_COUNT_1_BIT)),
-        multisampledPass(createRenderPass(context, kMultisampled)),
+        multisampledPass(createRenderPass(context, kSamples)),
         single(createRasterPipeline(context, layout.get(), singlePass, VK_SAMPLE_COUNT_1_BIT)),
-        multisampled(createRasterPipeline(context, layout.get(), multisampledPass, kMultisampled)) {}
+        multisampled(createRasterPipeline(context, layout.get(), multisampledPass, kSamples)) {}
 
-  static constexpr auto kMultisampled = VkSampleCountFlagBits(gpu::kStillRasterSamples);
+  static constexpr auto kSamples = VkSampleCountFlagBits(gpu::kStillRasterSamples);
   gpu::ProgramLayout layout;
   gpu::RenderPass singlePass, multisampledPass;
   gpu::Pipeline single, multisampled;
@@ -257,10 +257,10 @@ void GBufferPass::record(StepRecorder& steps, const GBufferImages& images,
     steps.step("gbuffer_list_clear", [&](VkCommandBuffer cmd) {
       vkCmdFillBuffer(cmd, images.sharedPixels.get(), 0, sizeof(gpu::RayWorkHeader), 0);
     });
-    steps.dispatch(resolveFirstTriangle_, resolveBindings,
-                   gpu::Grid::over(images.color), {}, "gbuffer");
-    steps.dispatch(sharedIndirect_, {{"workList", images.sharedPixels}},
-                   gpu::Grid::threads(1), {}, "gbuffer_list");
+    steps.dispatch(resolveFirstTriangle_, resolveBindings, gpu::Grid::over(images.color), {},
+                   "gbuffer");
+    steps.dispatch(sharedIndirect_, {{"workList", images.sharedPixels}}, gpu::Grid::threads(1), {},
+                   "gbuffer_list");
     steps.dispatch(resolveOtherTriangles_, resolveBindings,
                    gpu::Grid::indirect(images.sharedPixels), {}, "gbuffer_shared");
   }
