@@ -7,6 +7,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -58,6 +59,8 @@ Daemon::Daemon(const DaemonOptions& options) {
   if (logFd < 0 || pipe(pipeFds) != 0) throw std::runtime_error("cannot make the daemon's pipes");
   pid_ = fork();
   if (pid_ == 0) {
+    // A test program that dies (a sanitizer's abort) takes its daemon with it.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
     dup2(pipeFds[1], 1);
     dup2(logFd, 2);
     close(pipeFds[0]);
