@@ -54,7 +54,7 @@ export class StatsOverlay {
     this.label.innerHTML = '<span data-field="mode"></span> <span data-field="state">waiting for the first frame</span>';
     this.root = document.createElement('details');
     this.root.className = 'stats';
-    this.root.open = innerHeight >= 700; // on a small screen the picture comes first
+    this.root.open = innerHeight >= 700 && innerWidth >= 900; // on a small screen the picture comes first
     this.root.innerHTML = '<summary>Stats</summary><dl></dl><canvas></canvas>';
     const list = this.root.querySelector('dl');
     for (const [name, label, help] of FIELDS) {
