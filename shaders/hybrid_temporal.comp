@@ -114,9 +114,10 @@ void main() {
   vec4 far = imageLoad(farLayer, pixel);
   vec2 center = vec2(pixel) + 0.5;
 
-  // The pixel's statistics: where the surface under it was, if it was that surface.
-  vec2 pixelMotion = imageLoad(motion, pixel).xy;
-  vec2 previousPixel = center + pixelMotion;
+  // The pixel's statistics: where the surface under it was, if it was that surface. In a frame
+  // without a change (kChangedFrames false) nothing moved on screen: both layers' history is
+  // this pixel's.
+  vec2 previousPixel = kChangedFrames ? center + imageLoad(motion, pixel).xy : center;
   vec4 moments = vec4(0.0);
   bool pixelValid = push.reset == 0u && insideImage(previousPixel);
   if (pixelValid) {
@@ -142,10 +143,14 @@ void main() {
   vec4 nearHistory = pixelValid ? imageLoad(historyNear, ivec2(previousPixel)) : nearNow;
 
   // Far layer: where the background seen through this pixel was.
-  vec4 world = farWorldPosition(pixel);
-  vec2 previousFar = world.w > 0.0 ? center + screenMotion(world.xyz) : previousPixel;
-  bool farValid = push.reset == 0u && insideImage(previousFar) &&
-                  imageLoad(historyMoments, ivec2(previousFar)).z > 0.0;
+  bool farValid = push.reset == 0u && moments.z > 0.0;
+  vec2 previousFar = previousPixel;
+  if (kChangedFrames) {
+    vec4 world = farWorldPosition(pixel);
+    if (world.w > 0.0) previousFar = center + screenMotion(world.xyz);
+    farValid = push.reset == 0u && insideImage(previousFar) &&
+               imageLoad(historyMoments, ivec2(previousFar)).z > 0.0;
+  }
   vec3 farHistory = farValid ? imageLoad(historyFar, ivec2(previousFar)).rgb : farNow;
   // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
   // moved over or off it): clamped into their range, as TAA does.
