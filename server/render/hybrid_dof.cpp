@@ -35,13 +35,14 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"layerCoc", h.layerCoc},
                   {"samplesTraced", h.samplesTraced}},
                  Grid::indirect(m.workList));
-  // Pixels the mask left out this frame drop their history: the pass writes listed pixels only.
-  // Once camera and lens have rested kStillRasterFrames frames (ray_mask_rays.comp), or when every
-  // pixel is traced, the mask leaves none out.
+  // Pixels the mask left out this frame drop their history: the pass writes listed pixels only,
+  // and a pixel's history counts only where its moments hold rays (the layers' stale values are
+  // never read), nor its variance where it is zero. Once camera and lens have rested
+  // kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, the mask
+  // leaves none out.
   if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
-    steps.step("hybrid_history_clear", [&](VkCommandBuffer cmd) {
-      gpu::clearToZero(cmd, {&next.nearLayer, &next.farLayer, &next.moments, &h.variance});
-    });
+    steps.step("hybrid_history_clear",
+               [&](VkCommandBuffer cmd) { gpu::clearToZero(cmd, {&next.moments, &h.variance}); });
   }
   // The moving average's window (frames at the full rays per pixel): short after a change of view
   // or lens, so that the history follows it; on a still view it grows a frame per frame, so that
