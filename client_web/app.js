@@ -140,6 +140,7 @@ function welcomed(message, pane) {
   if (pane === primary) lensSeq = s;
   if (pane === secondary || state.mode) pane.send(modeMessage(++seq, pane));
   if (Object.keys(state.settings).length) pane.send(protocol.settings(state.settings));
+  pane.showFrom(seq);
   sessionStorage.setItem('hdof-token', pane.connection.token);
   if (pane === primary) labelResolutions($('#scale'), pane.viewport());
 }

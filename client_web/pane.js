@@ -21,6 +21,9 @@ export class Pane {
     this.limits = { max_width: 1920, max_height: 1080 };
     this.aspect = null; // width over height the picture keeps (the shot's), or null: the pane's
     this.lastShownAt = 0;
+    // A new session starts from the daemon's defaults until the client's camera, lens and mode
+    // (sent after its welcome) apply: its frames are shown from the one carrying this seq.
+    this.firstSeqShown = 0;
     this.picks = new Map(); // id -> {resolve, sentAt}
     this.pickId = 0;
     this.marker = this.add('div', 'pivot');
@@ -37,6 +40,7 @@ export class Pane {
         handlers.onStatus?.(status, this);
       },
       onWelcome: (welcome) => {
+        this.firstSeqShown = 0;
         this.limits = welcome.limits;
         this.viewer.reset();
         this.stats.reset();
@@ -46,10 +50,14 @@ export class Pane {
       },
       onFrame: (frame) => {
         this.stats.frameReceived(frame);
-        this.viewer.push(frame);
+        if (frame.seq < this.firstSeqShown) this.connection.send(protocol.ack(frame.frame));
+        else this.viewer.push(frame);
       },
       onPicked: (picked) => this.picked(picked),
-      onServerError: (error) => handlers.onServerError?.(error, this),
+      onServerError: (error) => {
+        this.firstSeqShown = 0; // a refused message's seq may never apply
+        handlers.onServerError?.(error, this);
+      },
       onTokenNeeded: (message) => handlers.onTokenNeeded?.(message, this),
     });
   }
@@ -98,6 +106,11 @@ export class Pane {
 
   send(message) {
     return this.connection.send(message);
+  }
+
+  // The session's frames are shown once they carry this seq (the client's state applied).
+  showFrom(seq) {
+    this.firstSeqShown = seq;
   }
 
   shown(frame) {

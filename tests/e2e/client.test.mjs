@@ -8,7 +8,7 @@
 // thin-lens formulas, the view selector lists the daemon's debug views and shows one with the
 // hybrid, the in-focus zone overlay tints the picture, the mode selector changes the mode the
 // frames report, a snapshot downloads, the panel fits a 900x560 window and goes below the picture
-// in a 390x844 one, and a stopped daemon dims the picture under a banner.
+// in upright ones (390x844, 768x1024), and a stopped daemon dims the picture under a banner.
 // Screenshots of each state go to the artifact directory.
 //   node client.test.mjs HDOF_BINARY ARTIFACT_DIR
 // Generous timeouts and no timing asserts: lavapipe on a shared machine is slow.
@@ -384,21 +384,30 @@ async function run(page, url) {
   assert.ok(scrolled <= shown, `the panel fits at 900x560: ${scrolled} px of content in ${shown} px`);
   step(`the panel fits at 900x560 (${await screenshot(page, 'client-900x560.png')})`);
 
-  // A phone held upright: the picture takes the window's width above the panel, and nothing
-  // scrolls sideways.
-  await page.setViewportSize({ width: 390, height: 844 });
-  await page.waitForFunction(() => document.querySelector('#pane-main [data-field="size"]').textContent.startsWith('390×'),
-    null, { timeout: TIMEOUT_MS });
-  const layout = await page.evaluate(() => {
-    const pane = document.querySelector('#pane-main').getBoundingClientRect();
-    const panel = document.querySelector('#controls').getBoundingClientRect();
-    return { paneWidth: pane.width, paneBottom: pane.bottom, panelTop: panel.top,
-      scrollWidth: document.documentElement.scrollWidth };
-  });
-  assert.equal(layout.paneWidth, 390, 'the picture spans a narrow window');
-  assert.ok(layout.panelTop >= layout.paneBottom - 1, `the panel is below the picture: ${JSON.stringify(layout)}`);
-  assert.ok(layout.scrollWidth <= 390, `nothing scrolls sideways: ${layout.scrollWidth} px`);
-  step(`a 390x844 window puts the panel below the picture (${await screenshot(page, 'client-390x844.png')})`);
+  // A phone and a tablet held upright: the picture takes the window's width above the panel, and
+  // nothing scrolls sideways.
+  for (const [width, height] of [[390, 844], [768, 1024]]) {
+    await page.setViewportSize({ width, height });
+    await page.waitForFunction((w) => document.querySelector('#pane-main [data-field="size"]').textContent.startsWith(`${w}×`),
+      width, { timeout: TIMEOUT_MS });
+    const layout = await page.evaluate(() => {
+      const pane = document.querySelector('#pane-main').getBoundingClientRect();
+      const panel = document.querySelector('#controls').getBoundingClientRect();
+      return { paneWidth: pane.width, paneBottom: pane.bottom, panelTop: panel.top,
+        scrollWidth: document.documentElement.scrollWidth };
+    });
+    assert.equal(layout.paneWidth, width, `the picture spans an upright ${width}x${height} window`);
+    assert.ok(layout.panelTop >= layout.paneBottom - 1, `the panel is below the picture: ${JSON.stringify(layout)}`);
+    assert.ok(layout.scrollWidth <= width, `nothing scrolls sideways: ${layout.scrollWidth} px`);
+    // The resize started a new session: its first frame shown is already in the chosen mode, not
+    // in the daemon's default one.
+    const [shownMode, chosenMode] = await page.evaluate(() => [
+      document.querySelector('#pane-main .pane-label [data-field="mode"]').textContent,
+      document.querySelector('#mode').value]);
+    assert.equal(shownMode, chosenMode, 'the first frame after a resize is in the chosen mode');
+    const shot = await screenshot(page, `client-${width}x${height}.png`);
+    step(`a ${width}x${height} window puts the panel below the picture (${shot})`);
+  }
   await page.setViewportSize(WINDOW);
 }
 
