@@ -36,10 +36,10 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"samplesTraced", h.samplesTraced}},
                  Grid::indirect(m.workList));
   // Pixels the mask left out this frame drop their history: the pass writes listed pixels only,
-  // and a pixel's history counts only where its moments hold rays (the layers' stale values are
-  // never read), nor its variance where it is zero. Once camera and lens have rested
-  // kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, the mask
-  // leaves none out.
+  // and a pixel's layers are read only where its moments count rays, so zeroing the moments and
+  // the variance drops it (the layers' stale values stay unread). Once camera and lens have
+  // rested kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, the
+  // mask leaves none out.
   if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
     steps.step("hybrid_history_clear",
                [&](VkCommandBuffer cmd) { gpu::clearToZero(cmd, {&next.moments, &h.variance}); });
