@@ -133,14 +133,18 @@ function welcomed(message, pane) {
     lensPanel.set(state.lens);
     fillControls(message);
   }
-  // A new session starts from the daemon's defaults: bring it to the client's state.
+  // A new session starts from the daemon's defaults: bring it to the client's state, and show
+  // its frames from the one that carries these messages' seq, unless the defaults are that state.
   pane.send(protocol.camera(++seq, state.camera));
   const s = ++seq;
   pane.send(protocol.lens(s, state.lens));
   if (pane === primary) lensSeq = s;
-  if (pane === secondary || state.mode) pane.send(modeMessage(++seq, pane));
-  if (Object.keys(state.settings).length) pane.send(protocol.settings(state.settings));
-  pane.showFrom(seq);
+  const sendsMode = pane === secondary || Boolean(state.mode);
+  if (sendsMode) pane.send(modeMessage(++seq, pane));
+  const sendsSettings = Object.keys(state.settings).length > 0;
+  if (sendsSettings) pane.send(protocol.settings(state.settings));
+  const starting = !sendsMode && !sendsSettings && protocol.isStartingView(state, message);
+  pane.showFrom(starting ? 0 : seq);
   sessionStorage.setItem('hdof-token', pane.connection.token);
   if (pane === primary) labelResolutions($('#scale'), pane.viewport());
 }

@@ -49,6 +49,14 @@ export function lens(seq, l) {
   };
 }
 
+// Whether a view (camera and lens, as the state keeps them) is the session's starting one (the
+// welcome's camera and lens): the frames a session renders before the client's messages apply
+// show it already.
+export function isStartingView(view, welcome) {
+  const same = (build, a, b) => JSON.stringify(build(0, a)) === JSON.stringify(build(0, b));
+  return same(camera, view.camera, welcome.camera) && same(lens, view.lens, welcome.lens);
+}
+
 export function focusAt(seq, x, y, pullMs) {
   return { type: 'focus_at', seq, x, y, pull_ms: pullMs };
 }

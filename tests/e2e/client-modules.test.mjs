@@ -78,6 +78,22 @@ const between = (a, b) => Math.hypot(...a.map((p, i) => p - b[i]));
 const near = (a, b, tolerance = 1e-9) => a.every((v, i) => Math.abs(v - b[i]) <= tolerance);
 const degrees = (radians) => (radians * 180) / Math.PI;
 
+test('a view is the starting one while its camera and lens are the welcome\'s', () => {
+  const welcome = {
+    camera: { type: 'camera', seq: 0, position: [1, 2, 3], target: [0, 1, 0], up: [0, 1, 0] },
+    lens: {
+      type: 'lens', seq: 0, focal_length_mm: 35, f_number: 2.8, focus_distance: 4, blades: 0,
+      blade_rotation_deg: 0, sensor_width_mm: 36, sensor_height_mm: 24,
+    },
+  };
+  const strip = ({ type, seq, ...rest }) => rest;
+  const view = { camera: strip(welcome.camera), lens: strip(welcome.lens) };
+  assert.ok(protocol.isStartingView(view, welcome));
+  assert.ok(!protocol.isStartingView({ ...view, camera: { ...view.camera, position: [1, 2, 4] } }, welcome));
+  assert.ok(!protocol.isStartingView({ ...view, lens: { ...view.lens, focal_length_mm: 50 } }, welcome));
+  assert.ok(!protocol.isStartingView({ ...view, lens: { ...view.lens, sensor_width_mm: 23.6 } }, welcome));
+});
+
 test('orbit about a pivot keeps the distance to it and the view on it', () => {
   const pivot = [1, 0.5, 2]; // a near object, off the view axis
   const turned = orbitAbout(view, pivot, 120, -40, 480);
