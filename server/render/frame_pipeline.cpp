@@ -164,15 +164,18 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
           ? raster_.stillFrames + 1
           : 0;
   // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
-  // ran: its output stands.
+  // ran: its output stands (the mask's, also over a still view's further samples).
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kStillRasterFrames;
   auto stands = [&](const LensOutput& output) {
     return !drawsGBuffer && output.valid && sameLens(output.lens, request.lens);
   };
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_);
-  if (request.mode == RenderMode::Hybrid)
-    hybrid_.startFrame(uniforms, stands(maskEdges_));
+  if (request.mode == RenderMode::Hybrid) {
+    bool sameGeometry = maskEdges_.stillRaster && uniforms.rasterSample > 0;
+    hybrid_.startFrame(uniforms, stands(maskEdges_) || (maskEdges_.valid && sameGeometry &&
+                                                        sameLens(maskEdges_.lens, request.lens)));
+  }
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);
@@ -217,7 +220,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   previousViewProj_ = uniforms.viewProj;
   if (drawsGBuffer || needsDof) dofOutput_ = {needsDof, request.lens};
   bool hybrid = request.mode == RenderMode::Hybrid;
-  if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens};
+  if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens, uniforms.rasterSample > 0};
   keepDofOutput_ = false;
   if (raster)
     raster_ = {true,

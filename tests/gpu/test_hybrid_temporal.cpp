@@ -224,10 +224,11 @@ TEST(HybridMode, RendersThroughTheFramePipeline) {
   EXPECT_GT(stats.passMsOf("hybrid_trace"), 0.0);
 }
 
-// The ray mask's edges and their spread depend on the G-buffer and the lens alone: a view at rest
-// whose raster has all its samples keeps them until the lens changes (in whichever mode) or the
-// raster starts over.
-TEST(HybridMode, ARestingViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
+// The ray mask's edges and their spread depend on the raster's depth and normals and on the lens
+// alone, and a still view's further samples add colour only: made from the second frame of a still
+// view (the first of those samples), they stand over its later frames, and once its raster has all
+// its samples, until the lens changes (in whichever mode) or the raster starts over.
+TEST(HybridMode, AStillViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
   SceneOnGpu& scene = testScene("builtin:dof");
   constexpr uint32_t kW = 192, kH = 108;
   FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, kW, kH);
@@ -246,8 +247,15 @@ TEST(HybridMode, ARestingViewKeepsItsMaskEdgesUntilTheLensOrTheRasterChanges) {
     return std::any_of(stats.passMs.begin(), stats.passMs.end(),
                        [](const auto& pass) { return pass.first == "ray_mask_edges"; });
   };
-  for (uint32_t i = 0; i < gpu::kStillRasterFrames; ++i)
-    EXPECT_TRUE(edges()) << "frame " << i << " draws the G-buffer";
+  EXPECT_TRUE(edges()) << "a cut: the first sample sets depth and normals";
+  EXPECT_TRUE(edges()) << "the first of the still view's further samples";
+  EXPECT_FALSE(edges()) << "a further sample: depth and normals as they were";
+  request.lens.focusDistance = focus * 0.9f;
+  EXPECT_TRUE(edges()) << "the focus changed while the raster takes samples";
+  for (uint32_t i = 4; i < gpu::kStillRasterFrames; ++i)
+    EXPECT_FALSE(edges()) << "frame " << i << " adds a sample";
+  request.lens.focusDistance = focus;
+  EXPECT_TRUE(edges()) << "the focus changed";
   EXPECT_FALSE(edges()) << "a settled raster and the same lens";
   request.lens.focusDistance = focus * 1.2f;
   EXPECT_TRUE(edges()) << "the focus changed";
