@@ -164,18 +164,17 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
           ? raster_.stillFrames + 1
           : 0;
   // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
-  // ran: its output stands (the mask's, also over a still view's further samples).
+  // ran: its output stands. The mask's edges read depth and normals alone, which a still view's
+  // further samples leave as they are: made from one of them, it stands over the later ones too.
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kStillRasterFrames;
-  auto stands = [&](const LensOutput& output) {
-    return !drawsGBuffer && output.valid && sameLens(output.lens, request.lens);
+  auto stands = [&](const LensOutput& output, bool geometryOnly) {
+    bool sameRaster =
+        !drawsGBuffer || (geometryOnly && output.stillRaster && uniforms.rasterSample > 0);
+    return sameRaster && output.valid && sameLens(output.lens, request.lens);
   };
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
-  keepDofOutput_ = needsDof && stands(dofOutput_);
-  if (request.mode == RenderMode::Hybrid) {
-    bool sameGeometry = maskEdges_.stillRaster && uniforms.rasterSample > 0;
-    hybrid_.startFrame(uniforms, stands(maskEdges_) || (maskEdges_.valid && sameGeometry &&
-                                                        sameLens(maskEdges_.lens, request.lens)));
-  }
+  keepDofOutput_ = needsDof && stands(dofOutput_, false);
+  if (request.mode == RenderMode::Hybrid) hybrid_.startFrame(uniforms, stands(maskEdges_, true));
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);
