@@ -104,6 +104,7 @@ void FramePipeline::resize(uint32_t width, uint32_t height) {
   hybrid_.resetHistory();
   accumulation_.valid = false;
   dofOutput_.valid = false;
+  dofTiles_.valid = false;
   maskEdges_.valid = false;
   readback_ = gpu::Buffer();
   previousViewProj_.reset();
@@ -123,7 +124,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
         gbuffer_.record(steps, im.gbuffer, uniforms, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
-        if (!keepDofOutput_) postProcess_.record(steps, im.gbuffer, im.dof);
+        if (!keepDofOutput_) postProcess_.record(steps, im.gbuffer, im.dof, keepDofTiles_);
         radiance = &im.dof.output;
       }
       if (request.mode == RenderMode::Hybrid) {
@@ -164,8 +165,9 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
           ? raster_.stillFrames + 1
           : 0;
   // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
-  // ran: its output stands. The mask's edges read depth and normals alone, which a still view's
-  // further samples leave as they are: made from one of them, it stands over the later ones too.
+  // ran: its output stands. The post-process's tiles and the mask's edges read depth (and
+  // normals) alone, which a still view's further samples leave as they are: made from one of
+  // them, they stand over the later ones too.
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kStillRasterFrames;
   auto stands = [&](const LensOutput& output, bool geometryOnly) {
     bool sameRaster =
@@ -174,6 +176,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   };
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_, false);
+  keepDofTiles_ = needsDof && stands(dofTiles_, true);
   if (request.mode == RenderMode::Hybrid) hybrid_.startFrame(uniforms, stands(maskEdges_, true));
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
@@ -217,10 +220,13 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   for (const auto& [name, ms] : stats.passMs) stats.gpuMs += ms;
 
   previousViewProj_ = uniforms.viewProj;
-  if (drawsGBuffer || needsDof) dofOutput_ = {needsDof, request.lens};
+  if (drawsGBuffer || needsDof) {
+    dofOutput_ = {needsDof, request.lens};
+    dofTiles_ = {needsDof, request.lens, uniforms.rasterSample > 0};
+  }
   bool hybrid = request.mode == RenderMode::Hybrid;
   if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens, uniforms.rasterSample > 0};
-  keepDofOutput_ = false;
+  keepDofOutput_ = keepDofTiles_ = false;
   if (raster)
     raster_ = {true,
                request.camera,

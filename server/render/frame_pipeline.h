@@ -139,8 +139,10 @@ class FramePipeline {
     Lens lens;
     bool stillRaster = false;
   };
-  LensOutput dofOutput_, maskEdges_;
-  bool keepDofOutput_ = false;  // this frame reuses images.dof.output (record() reads it)
+  LensOutput dofOutput_, dofTiles_, maskEdges_;
+  // This frame reuses images.dof.output, or only the post-process's tiles and their lists
+  // (record() reads them).
+  bool keepDofOutput_ = false, keepDofTiles_ = false;
 
   // What the ray-traced accumulation holds, so raytrace knows when to start over.
   struct Accumulation {

@@ -24,7 +24,8 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
                           {{"kList", gpu::kDofListNearWider}}),
       compositeLayers_(context, "dof_composite_layers.comp") {}
 
-void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d) const {
+void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d,
+                            bool tilesStand) const {
   // One thread per half-resolution pixel, which also writes the CoC of its 2x2 pixels.
   steps.dispatch(downsample_,
                  {{"color", g.color},
@@ -32,19 +33,21 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
                   {"colorCoc", d.colorCoc},
                   {"halfColorCoc", d.halfColorCoc}},
                  Grid::over(d.halfColorCoc));
-  uint32_t cocChannel = 3;
-  steps.dispatch(tiles_, {{"cocImage", d.colorCoc}, {"tiles", d.tiles}}, Grid::over(d.tiles),
-                 cocChannel);
-  steps.dispatch(dilate_, {{"tiles", d.tiles}, {"dilated", d.dilatedTiles}},
-                 Grid::over(d.dilatedTiles));
-  steps.step("dof_tile_lists_clear", [&](VkCommandBuffer cmd) {
-    gpu::DofTileLists empty;
-    for (gpu::DofTileList& list : empty.lists) list = {0, 1, 1, 0};
-    vkCmdUpdateBuffer(cmd, d.tileLists.get(), 0, sizeof(empty), &empty);
-  });
-  steps.dispatch(tileLists_,
-                 {{"tiles", d.tiles}, {"dilatedTiles", d.dilatedTiles}, {"lists", d.tileLists}},
-                 Grid::over(d.tiles));
+  if (!tilesStand) {
+    uint32_t cocChannel = 3;
+    steps.dispatch(tiles_, {{"cocImage", d.colorCoc}, {"tiles", d.tiles}}, Grid::over(d.tiles),
+                   cocChannel);
+    steps.dispatch(dilate_, {{"tiles", d.tiles}, {"dilated", d.dilatedTiles}},
+                   Grid::over(d.dilatedTiles));
+    steps.step("dof_tile_lists_clear", [&](VkCommandBuffer cmd) {
+      gpu::DofTileLists empty;
+      for (gpu::DofTileList& list : empty.lists) list = {0, 1, 1, 0};
+      vkCmdUpdateBuffer(cmd, d.tileLists.get(), 0, sizeof(empty), &empty);
+    });
+    steps.dispatch(tileLists_,
+                   {{"tiles", d.tiles}, {"dilatedTiles", d.dilatedTiles}, {"lists", d.tileLists}},
+                   Grid::over(d.tiles));
+  }
   steps.dispatch(prefilter_,
                  {{"halfColorCoc", d.halfColorCoc},
                   {"dilatedTiles", d.dilatedTiles},

@@ -14,7 +14,10 @@ class PostProcessDof {
  public:
   explicit PostProcessDof(const gpu::Context& context);
   // Reads gbuffer.color and gbuffer.normalDepth; writes dof, its result in dof.output.
-  void record(StepRecorder& steps, const GBufferImages& gbuffer, const DofImages& dof) const;
+  // tilesStand: dof.tiles, .dilatedTiles and .tileLists, which follow the CoC alone (depth and
+  // lens), are those of this G-buffer's depth through this lens already.
+  void record(StepRecorder& steps, const GBufferImages& gbuffer, const DofImages& dof,
+              bool tilesStand) const;
 
  private:
   gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, gather_, median_;
