@@ -164,10 +164,9 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
               sameLens(raster_.lens, request.lens)
           ? raster_.stillFrames + 1
           : 0;
-  // Neither the G-buffer nor the lens changed since the post-process (the ray mask's edges) last
-  // ran: its output stands. The post-process's tiles and the mask's edges read depth (and
-  // normals) alone, which a still view's further samples leave as they are: made from one of
-  // them, they stand over the later ones too.
+  // Neither the G-buffer nor the lens changed since the post-process (its tiles, the ray mask's
+  // edges) last ran: its output stands; the tiles and edges also over a still view's further
+  // samples (geometryOnly, see LensOutput).
   bool drawsGBuffer = raster && uniforms.rasterSample < gpu::kStillRasterFrames;
   auto stands = [&](const LensOutput& output, bool geometryOnly) {
     bool sameRaster =

@@ -130,10 +130,10 @@ class FramePipeline {
   } raster_;
 
   // What an output of the G-buffer as it is, through this lens, holds. A still view whose raster
-  // has all its samples keeps it until the lens changes: the post-process output, and the ray
-  // mask's edges and their spread (hybrid only). The mask reads the raster's depth and normals
+  // has all its samples keeps it until the lens changes: the post-process output, its tiles, and
+  // the ray mask's edges and their spread (hybrid only). The last two read depth and normals
   // alone, which a still view's further samples leave as they are (they add colour): made from
-  // one of those frames (stillRaster), it stands over the later ones too.
+  // one of those frames (stillRaster), they stand over the later ones too.
   struct LensOutput {
     bool valid = false;
     Lens lens;
