@@ -5,7 +5,6 @@
 #include "gpu/context.h"
 
 #include <cstring>
-#include <initializer_list>
 #include <memory>
 #include <span>
 #include <string>
@@ -156,10 +155,6 @@ void copyImage(VkCommandBuffer cmd, const Image& source, const Image& destinatio
 // before the host reads it.
 void copyBufferToHost(VkCommandBuffer cmd, const Buffer& source, const Buffer& destination,
                       VkDeviceSize bytes);
-
-// Zeroes colour images in VK_IMAGE_LAYOUT_GENERAL (made with VK_IMAGE_USAGE_TRANSFER_DST_BIT),
-// after earlier compute reads and before later compute reads and writes.
-void clearToZero(VkCommandBuffer cmd, std::initializer_list<const Image*> images);
 
 // One image layout transition (and execution/memory dependency) for all mip levels.
 void transitionImage(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,

@@ -9,6 +9,7 @@ using gpu::Grid;
 HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
     : mask_(context),
       trace_(context, "hybrid_trace.comp", &scene.setLayout()),
+      historyClear_(context, "hybrid_history_clear.comp"),
       temporalChanged_(context, "hybrid_temporal.comp"),
       temporalStill_(context, "hybrid_temporal.comp", nullptr, {{"kChangedFrames", 0}}),
       spatial_(context, "hybrid_spatial.comp"),
@@ -41,8 +42,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   // rested kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, the
   // mask leaves none out.
   if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
-    steps.step("hybrid_history_clear",
-               [&](VkCommandBuffer cmd) { gpu::clearToZero(cmd, {&next.moments, &h.variance}); });
+    steps.dispatch(historyClear_,
+                   {{"rays", m.rays}, {"moments", next.moments}, {"variance", h.variance}},
+                   Grid::over(m.rays));
   }
   // The moving average's window (frames at the full rays per pixel): short after a change of view
   // or lens, so that the history follows it; on a still view it grows a frame per frame, so that

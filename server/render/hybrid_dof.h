@@ -46,6 +46,7 @@ class HybridDof {
   RayMask mask_;
   gpu::ComputeProgram trace_;
   // hybrid_temporal.comp for frames in which the camera or the lens changed, and for the others.
+  gpu::ComputeProgram historyClear_;
   gpu::ComputeProgram temporalChanged_, temporalStill_;
   gpu::ComputeProgram spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;

@@ -93,6 +93,33 @@ TEST(HybridTemporal, HistoryGrowsWhileStillAndACutStartsOver) {
   }
 }
 
+// A pixel the mask leaves out drops its history: after a focus change moves the mask, every pixel
+// without rays this frame has no moments and no variance, pixels that had a history in that set
+// two frames before among them.
+TEST(HybridTemporal, APixelTheMaskLeavesOutDropsItsHistory) {
+  TemporalRig rig;
+  for (int i = 0; i < 3; ++i) rig.render(i == 0);
+  std::vector<glm::vec4> twoFramesBefore = readImage(rig.history().moments);
+  rig.render(false);
+  rig.render(false, 0.5f);
+  std::vector<glm::vec4> rays = readImage(rig.pipeline.images().mask.rays);
+  std::vector<glm::vec4> moments = readImage(rig.history().moments);
+  std::vector<glm::vec4> variance = readImage(rig.variance());
+  int leftOut = 0, dropped = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (rays[i].x > 0.0f) {
+      ASSERT_GT(moments[i].z, 0.0f) << "a traced pixel counts its rays";
+      continue;
+    }
+    ++leftOut;
+    dropped += twoFramesBefore[i].z > 0.0f;
+    ASSERT_EQ(moments[i].z, 0.0f) << "pixel " << i << " was left out";
+    ASSERT_EQ(variance[i], glm::vec4(0.0f)) << "pixel " << i << " was left out";
+  }
+  EXPECT_GT(leftOut, int(kWidth * kHeight / 4));
+  EXPECT_GT(dropped, 100) << "the focus change left out pixels that had a history";
+}
+
 // The moving average's window: ten frames' rays after a change, growing by a frame per still
 // frame (so that a resting view keeps converging), and short again once the lens changes.
 TEST(HybridTemporal, WindowGrowsWhileStillAndShrinksOnALensChange) {
