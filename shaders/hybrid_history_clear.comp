@@ -1,9 +1,10 @@
 // Hybrid stage 5, before the temporal pass: pixels the ray mask left out this frame drop their
 // history. Their moments and variance are zeroed, so that the spatial pass, the next frame's
 // temporal pass and the next frame's ray mask find no rays there; hybrid_temporal.comp writes the
-// listed ones. A pass rather than an image clear: it writes only the pixels left out, and some
-// GPUs clear a storage image through their raster units (at 1920x1080 on an H100, where the
-// raster is slow, a clear of the two images took 0.79 ms, this pass 0.02).
+// listed ones. A pass rather than an image clear: some GPUs clear a storage image through their
+// raster units (at 1920x1080 on an H100, where the raster is slow, a clear of the two images took
+// 0.79 ms, this pass 0.02). Lavapipe's clear is a fill, faster than this pass (640x360, one
+// thread: 0.7 against 2.3 ms, under 1% of a hybrid frame).
 #version 460
 layout(local_size_x = 8, local_size_y = 8) in;
 
