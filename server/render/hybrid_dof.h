@@ -45,8 +45,8 @@ class HybridDof {
  private:
   RayMask mask_;
   gpu::ComputeProgram trace_;
-  // hybrid_temporal.comp for frames in which the camera or the lens changed, and for the others.
   gpu::ComputeProgram historyClear_;
+  // hybrid_temporal.comp for frames in which the camera or the lens changed, and for the others.
   gpu::ComputeProgram temporalChanged_, temporalStill_;
   gpu::ComputeProgram spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;
