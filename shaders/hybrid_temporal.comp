@@ -36,10 +36,13 @@ layout(set = 1, binding = 13) uniform writeonly image2D outMoments;
 // does not change with the rays the mask gives the pixel), and the rays accumulated.
 layout(set = 1, binding = 14) uniform writeonly image2D outVariance;
 
-// Whether this pipeline serves frames in which the camera or the lens changed (history clamped to
-// this frame's rays) or only the others (hybrid_dof.cpp picks by the frame uniforms; a device that
-// runs every branch under a mask pays for the clamp's 27 loads whether it is taken or not).
+// Which frames this pipeline serves (hybrid_dof.cpp picks by the frame uniforms; a device that
+// runs every branch under a mask pays for the loads of one not taken): kChangedFrames, those in
+// which the camera or the lens changed (history clamped to this frame's rays, 27 loads), else
+// only the others; kMovedFrames, those in which the camera moved (history reprojected, 11 loads),
+// else only the others: in a lens change (a focus pull) nothing moved on screen either.
 layout(constant_id = 0) const bool kChangedFrames = true;
+layout(constant_id = 1) const bool kMovedFrames = true;
 
 layout(push_constant) uniform Push {
   uint reset;  // 1 on a camera cut or the first frame: no history at all
@@ -115,9 +118,9 @@ void main() {
   vec2 center = vec2(pixel) + 0.5;
 
   // The pixel's statistics: where the surface under it was, if it was that surface. In a frame
-  // without a change (kChangedFrames false) nothing moved on screen: both layers' history is
-  // this pixel's.
-  vec2 previousPixel = kChangedFrames ? center + imageLoad(motion, pixel).xy : center;
+  // in which the camera did not move (kMovedFrames false) nothing moved on screen: both layers'
+  // history is this pixel's.
+  vec2 previousPixel = kMovedFrames ? center + imageLoad(motion, pixel).xy : center;
   vec4 moments = vec4(0.0);
   bool pixelValid = push.reset == 0u && insideImage(previousPixel);
   if (pixelValid) {
@@ -145,7 +148,7 @@ void main() {
   // Far layer: where the background seen through this pixel was.
   bool farValid = push.reset == 0u && moments.z > 0.0;
   vec2 previousFar = previousPixel;
-  if (kChangedFrames) {
+  if (kMovedFrames) {
     vec4 world = farWorldPosition(pixel);
     if (world.w > 0.0) previousFar = center + screenMotion(world.xyz);
     farValid = push.reset == 0u && insideImage(previousFar) &&

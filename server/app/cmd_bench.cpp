@@ -8,6 +8,45 @@
 #include <vector>
 
 namespace hdof {
+namespace {
+
+// Each pass's times over several frames, in the order the passes first ran.
+class PassTimes {
+ public:
+  void add(const FrameStats& stats) {
+    for (const auto& [pass, ms] : stats.passMs) {
+      auto it = std::find_if(passes_.begin(), passes_.end(),
+                             [&name = pass](const auto& entry) { return entry.first == name; });
+      if (it == passes_.end()) it = passes_.insert(passes_.end(), {pass, {}});
+      it->second.push_back(ms);
+    }
+  }
+  double medianOf(const std::string& pass) const {
+    for (const auto& [name, times] : passes_)
+      if (name == pass) return median(times);
+    return 0.0;
+  }
+  // " pass=ms" words, or "\"pass\":ms" members of a JSON object; medians.
+  std::string text(bool json) const {
+    std::string out;
+    for (const auto& [pass, times] : passes_) {
+      char entry[96];
+      if (json)
+        std::snprintf(entry, sizeof entry, "%s\"%s\":%.3f", out.empty() ? "" : ",", pass.c_str(),
+                      median(times));
+      else
+        std::snprintf(entry, sizeof entry, " %s=%.2f", pass.c_str(), median(times));
+      out += entry;
+    }
+    return out;
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::vector<double>>> passes_;
+};
+
+}  // namespace
+
 int runBench(std::span<const std::string> args) {
   SceneOptions sceneOptions;
   LensOptions lensOptions;
@@ -81,7 +120,7 @@ int runBench(std::span<const std::string> args) {
   // missing). The same frames rendered again with timestamps give the passes' times, whose sum is
   // printed beside it.
   std::vector<double> coverage, raysShot, gpuMs;
-  std::vector<std::pair<std::string, std::vector<double>>> passMs;  // of the last timedFrames()
+  PassTimes passMs;  // of the last timedFrames()
   auto renderFrames = [&](RenderMode mode, bool timed, auto&& onFrame) {
     request.mode = mode;
     request.timePasses = timed;
@@ -97,17 +136,12 @@ int runBench(std::span<const std::string> args) {
     gpuMs.clear();
     coverage.clear();
     raysShot.clear();
-    passMs.clear();
+    passMs = {};
     renderFrames(mode, true, [&](const FrameStats& stats) {
       gpuMs.push_back(stats.gpuMs);
       coverage.push_back(stats.maskCoverage);
       raysShot.push_back(double(stats.raysShot));
-      for (const auto& [pass, passTime] : stats.passMs) {
-        auto it = std::find_if(passMs.begin(), passMs.end(),
-                               [&name = pass](const auto& entry) { return entry.first == name; });
-        if (it == passMs.end()) it = passMs.insert(passMs.end(), {pass, {}});
-        it->second.push_back(passTime);
-      }
+      passMs.add(stats);
     });
   };
   auto frameMs = [&](RenderMode mode) {
@@ -122,26 +156,13 @@ int runBench(std::span<const std::string> args) {
   double hybridGpuMs = median(gpuMs);
   double maskCoverage = median(coverage);
   double hybridRays = median(raysShot);
-  std::string hybridPassesJson, hybridPassesText;  // "pass":ms members, pass=ms words
-  for (const auto& [pass, times] : passMs) {
-    char text[96];
-    std::snprintf(text, sizeof text, "%s\"%s\":%.3f", hybridPassesJson.empty() ? "" : ",",
-                  pass.c_str(), median(times));
-    hybridPassesJson += text;
-    std::snprintf(text, sizeof text, " %s=%.2f", pass.c_str(), median(times));
-    hybridPassesText += text;
-  }
-  auto passMedian = [&](const std::string& pass) {
-    for (const auto& [name, times] : passMs)
-      if (name == pass) return median(times);
-    return 0.0;
-  };
+  PassTimes hybridPasses = passMs;
   // How the selective trace scales: the same pass with every pixel listed.
-  double maskedTraceMs = passMedian("hybrid_trace");
+  double maskedTraceMs = passMs.medianOf("hybrid_trace");
   request.traceEverywhere = true;
   timedFrames(RenderMode::Hybrid);
   request.traceEverywhere = false;
-  double fullTraceMs = passMedian("hybrid_trace");
+  double fullTraceMs = passMs.medianOf("hybrid_trace");
   double fullRays = median(raysShot);
   double rayTraceFrameMs = frameMs(RenderMode::RayTrace);
   double rayTraceGpuMs = median(gpuMs);
@@ -154,20 +175,31 @@ int runBench(std::span<const std::string> args) {
     setup.pipeline.resetHistory();
     for (uint32_t i = 0; i < gpu::kStillRasterFrames; ++i) setup.pipeline.render(request);
   };
-  auto focusPullMs = [&](RenderMode mode) {
+  // The same frames again with timestamps give the passes' times and the rays.
+  auto focusPull = [&](RenderMode mode, bool timed, auto&& onFrame) {
     settle(mode);
+    request.timePasses = timed;
     float focus = request.lens.focusDistance;
-    std::vector<double> ms;
     for (uint32_t i = 0; i < frames; ++i) {
       request.lens.focusDistance = focus * (i % 2 == 0 ? 1.05f : 1.0f);
-      ms.push_back(setup.pipeline.render(request).wallMs);
+      onFrame(setup.pipeline.render(request));
     }
     request.lens.focusDistance = focus;
     request.timePasses = true;
+  };
+  auto focusPullMs = [&](RenderMode mode) {
+    std::vector<double> ms;
+    focusPull(mode, false, [&](const FrameStats& stats) { ms.push_back(stats.wallMs); });
     return median(ms);
   };
   double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
   double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
+  PassTimes focusPullPasses;
+  std::vector<double> focusPullRays;
+  focusPull(RenderMode::Hybrid, true, [&](const FrameStats& stats) {
+    focusPullPasses.add(stats);
+    focusPullRays.push_back(double(stats.raysShot));
+  });
 
   // The hybrid's frames once the view rests (nothing changed for kStillRasterFrames frames): the
   // G-buffer stands and every pixel gets rays, the frames an equal-time comparison spends most of
@@ -221,6 +253,7 @@ int runBench(std::span<const std::string> args) {
         "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
         "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
         "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f,"
+        "\"hybrid_focus_pull_rays_per_frame\":%.0f,\"hybrid_focus_pull_passes_ms\":{%s},"
         "\"postprocess_cut_frame_ms\":%.3f,\"hybrid_cut_frame_ms\":%.3f,"
         "\"postprocess_multisampled_frame_ms\":%.3f,\"hybrid_multisampled_frame_ms\":%.3f,"
         "\"hybrid_rest_frame_ms\":%.3f,\"hybrid_rest_rays_per_frame\":%.0f,"
@@ -232,10 +265,11 @@ int runBench(std::span<const std::string> args) {
         loaded.bvh.depth, gbufferMs, visibilityMs, resolveMs, postProcessMs, referenceMs,
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         postProcessGpuMs, hybridGpuMs, rayTraceGpuMs, maskCoverage, hybridRays,
-        hybridPassesJson.c_str(), fullTraceMs, fullRays, postProcessFocusPullMs, hybridFocusPullMs,
+        hybridPasses.text(true).c_str(), fullTraceMs, fullRays, postProcessFocusPullMs,
+        hybridFocusPullMs, median(focusPullRays), focusPullPasses.text(true).c_str(),
         postProcessCutMs, hybridCutMs, postProcessMultisampledMs, hybridMultisampledMs,
-        hybridRestMs, median(restRays), lens.focalLengthMm,
-        lens.fNumber, lens.focusDistance, lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
+        hybridRestMs, median(restRays), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
+        lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
   std::printf("device=\"%s\"\n", setup.context.deviceName().c_str());
@@ -281,7 +315,9 @@ int runBench(std::span<const std::string> args) {
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));
-  std::printf("hybrid_passes_ms:%s (medians)\n", hybridPassesText.c_str());
+  std::printf("hybrid_passes_ms:%s (medians)\n", hybridPasses.text(false).c_str());
+  std::printf("hybrid_focus_pull_passes_ms:%s (%.0f rays; medians)\n",
+              focusPullPasses.text(false).c_str(), median(focusPullRays));
   std::printf(
       "hybrid_trace: %.1f ms for the mask's rays (%.2f Mrays/s), %.1f ms with every pixel "
       "traced (%.0f rays, %.2f Mrays/s): the mask's share of the work %.2f\n",

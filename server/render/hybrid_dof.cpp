@@ -10,8 +10,10 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
     : mask_(context),
       trace_(context, "hybrid_trace.comp", &scene.setLayout()),
       historyClear_(context, "hybrid_history_clear.comp"),
-      temporalChanged_(context, "hybrid_temporal.comp"),
-      temporalStill_(context, "hybrid_temporal.comp", nullptr, {{"kChangedFrames", 0}}),
+      temporalMoved_(context, "hybrid_temporal.comp"),
+      temporalLens_(context, "hybrid_temporal.comp", nullptr, {{"kMovedFrames", 0}}),
+      temporalStill_(context, "hybrid_temporal.comp", nullptr,
+                     {{"kChangedFrames", 0}, {"kMovedFrames", 0}}),
       spatial_(context, "hybrid_spatial.comp"),
       composite_(context, "hybrid_composite.comp"),
       debugView_(context, "debug_view.comp"),
@@ -56,7 +58,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
     float minBlend;  // the moving average's weight of the new frame once history is long
   } temporalPush{hasHistory_ ? 0u : 1u,
                  1.0f / float(std::min(kChangeWindow + stillFrames_, kStillWindow))};
-  steps.dispatch(changed_ ? temporalChanged_ : temporalStill_,
+  steps.dispatch(moved_     ? temporalMoved_
+                 : changed_ ? temporalLens_
+                            : temporalStill_,
                  {{"rays", m.rays},
                   {"nearLayer", h.nearLayer},
                   {"farLayer", h.farLayer},

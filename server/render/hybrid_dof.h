@@ -35,7 +35,8 @@ class HybridDof {
   void startFrame(const gpu::FrameUniforms& uniforms, bool maskEdgesStand) {
     stillFrames_ = uniforms.stillFrames;
     // As hybrid_temporal.comp decides it: the camera moved, or the camera or the lens changed.
-    changed_ = uniforms.previousViewProj != uniforms.viewProj || uniforms.stillFrames == 0;
+    moved_ = uniforms.previousViewProj != uniforms.viewProj;
+    changed_ = moved_ || uniforms.stillFrames == 0;
     maskEdgesStand_ = maskEdgesStand;
   }
   void advance();
@@ -46,13 +47,15 @@ class HybridDof {
   RayMask mask_;
   gpu::ComputeProgram trace_;
   gpu::ComputeProgram historyClear_;
-  // hybrid_temporal.comp for frames in which the camera or the lens changed, and for the others.
-  gpu::ComputeProgram temporalChanged_, temporalStill_;
+  // hybrid_temporal.comp for frames in which the camera moved, those in which only the lens
+  // changed, and the others.
+  gpu::ComputeProgram temporalMoved_, temporalLens_, temporalStill_;
   gpu::ComputeProgram spatial_, composite_, debugView_, focusZone_;
   bool hasHistory_ = false;
   uint32_t current_ = 0;      // the history set the last frame wrote
   uint32_t stillFrames_ = 0;  // frames since the camera or the lens last changed
-  bool changed_ = true;       // this frame's camera or lens differs from the last one's
+  bool moved_ = true;         // this frame's camera differs from the last one's
+  bool changed_ = true;       // ... or its lens does
   bool maskEdgesStand_ = false;
 };
 

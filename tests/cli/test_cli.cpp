@@ -125,6 +125,15 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
   size_t at = bench.stdoutText.find(restRays);
   ASSERT_NE(at, std::string::npos);
   EXPECT_GE(std::stod(bench.stdoutText.substr(at + restRays.size())), 64.0 * 36.0);
+  // A lens-only frame's passes: the DoF steps and the rays, no G-buffer work.
+  const std::string pullPasses = "\"hybrid_focus_pull_passes_ms\":{";
+  at = bench.stdoutText.find(pullPasses);
+  ASSERT_NE(at, std::string::npos);
+  std::string passes = bench.stdoutText.substr(at, bench.stdoutText.find('}', at) - at);
+  for (const char* pass : {"\"dof_gather\":", "\"hybrid_trace\":", "\"hybrid_temporal\":"})
+    EXPECT_NE(passes.find(pass), std::string::npos) << pass << " in " << passes;
+  for (const char* pass : {"\"visibility\":", "\"gbuffer\":", "\"gbuffer_shared\":"})
+    EXPECT_EQ(passes.find(pass), std::string::npos) << pass << " in " << passes;
 }
 
 TEST(Cli, BadQualityInputIsAOneLineError) {
