@@ -211,7 +211,10 @@ int runBench(std::span<const std::string> args) {
     restMs.push_back(stats.wallMs);
     restRays.push_back(double(stats.raysShot));
   }
+  // As many further frames at rest with timestamps.
   request.timePasses = true;
+  PassTimes restPasses;
+  for (uint32_t i = 0; i < frames; ++i) restPasses.add(setup.pipeline.render(request));
   double hybridRestMs = median(restMs);
 
   // Frame `index` after a cut. The first: no history, one raster sample whose edges the
@@ -257,6 +260,7 @@ int runBench(std::span<const std::string> args) {
         "\"postprocess_cut_frame_ms\":%.3f,\"hybrid_cut_frame_ms\":%.3f,"
         "\"postprocess_multisampled_frame_ms\":%.3f,\"hybrid_multisampled_frame_ms\":%.3f,"
         "\"hybrid_rest_frame_ms\":%.3f,\"hybrid_rest_rays_per_frame\":%.0f,"
+        "\"hybrid_rest_passes_ms\":{%s},"
         "\"lens\":{\"focal_length_mm\":%.3f,\"f_number\":%.4g,\"focus_distance\":%.4f,"
         "\"sensor_width_mm\":%.4g,\"sensor_height_mm\":%.4g,\"fov_x_deg\":%.3f,"
         "\"fov_y_deg\":%.3f}}\n",
@@ -268,7 +272,7 @@ int runBench(std::span<const std::string> args) {
         hybridPasses.text(true).c_str(), fullTraceMs, fullRays, postProcessFocusPullMs,
         hybridFocusPullMs, median(focusPullRays), focusPullPasses.text(true).c_str(),
         postProcessCutMs, hybridCutMs, postProcessMultisampledMs, hybridMultisampledMs,
-        hybridRestMs, median(restRays), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
+        hybridRestMs, median(restRays), restPasses.text(true).c_str(), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
         lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
@@ -312,6 +316,7 @@ int runBench(std::span<const std::string> args) {
       "frames, the G-buffer kept; wall clock, medians of %u)\n",
       hybridRestMs, hybridRestMs / rayTraceFrameMs, median(restRays), gpu::kStillRasterFrames,
       frames);
+  std::printf("hybrid_rest_passes_ms:%s (medians)\n", restPasses.text(false).c_str());
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));
