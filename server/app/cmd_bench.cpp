@@ -175,7 +175,8 @@ int runBench(std::span<const std::string> args) {
     setup.pipeline.resetHistory();
     for (uint32_t i = 0; i < gpu::kStillRasterFrames; ++i) setup.pipeline.render(request);
   };
-  // The same frames again with timestamps give the passes' times and the rays.
+  // A focus pull's frames: without timestamps for their wall-clock time, with them for the
+  // passes' times.
   auto focusPull = [&](RenderMode mode, bool timed, auto&& onFrame) {
     settle(mode);
     request.timePasses = timed;
