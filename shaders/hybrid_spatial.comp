@@ -29,7 +29,6 @@ layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
 
 const int kTaps = 12;
-const float kRadiusOfCoc = 0.125;  // the disc's radius over the pixel's CoC (its diameter)
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
 const float kVarianceMin = 1e-4, kVarianceMax = 1.0;
 const float kLuminanceSigmas = 2.0;
@@ -48,7 +47,7 @@ void main() {
   float lum = luminance(near.rgb + far.rgb);
   float samples = max(imageLoad(historyMoments, pixel).z, 1.0);
   float noise = sqrt(clamp(imageLoad(variance, pixel).r, kVarianceMin, kVarianceMax) / samples);
-  float radius = min(kRadiusOfCoc * blendedCoc(pixel, near.a), kMaxRadius);
+  float radius = min(kHybridSpatialRadiusOfCoc * blendedCoc(pixel, near.a), kMaxRadius);
 
   vec4 nearSum = near, farSum = far;
   float weightSum = 1.0;

@@ -35,9 +35,14 @@ HDOF_CONST float kRayMaskNormalHigh = 0.5;
 // Far-field edges (their near side behind the focus plane) get rays from this CoC diameter
 // (pixels) on, and only for depth jumps: below it the post-process's background gather holds up.
 HDOF_CONST float kRayMaskFarEdgeCoc = 2.0;
+// The hybrid's spatial reconstruction gathers over a disc of this radius over a pixel's CoC
+// (hybrid_spatial.comp): an eighth, so a CoC of 8 px is the first whose disc reaches a neighbour.
+HDOF_CONST float kHybridSpatialRadiusOfCoc = 0.125;
 // Rays by CoC: a pixel whose nearby edges are blurred on both sides by more than this CoC
-// diameter (pixels) gets fewer rays, by the ratio of the blur areas (a quarter at twice it).
-HDOF_CONST float kRayMaskDenseCoc = 4.0;
+// diameter (pixels) gets fewer rays, by the ratio of the blur areas (a quarter at twice it): from
+// where the spatial reconstruction fills in from the neighbours, below which fewer rays are only
+// more noise.
+HDOF_CONST float kRayMaskDenseCoc = 1.0 / kHybridSpatialRadiusOfCoc;
 // An edge of the resting view's raster crosses a pixel when a neighbour's normal turns from the
 // pixel's by more than this cosine, or its depth jumps by kRayMaskDepthJumpLow.
 HDOF_CONST float kRayMaskCrossedNormal = 0.9;
