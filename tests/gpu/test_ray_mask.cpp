@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <shared/dof.h>
 #include <shared/ray_work.h>
 
 #include <algorithm>
@@ -54,13 +55,7 @@ class RayMaskRig {
   // stillFrames: how long camera and lens have rested.
   Frame render(Lens lens, const gpu::Image* variance = nullptr, uint32_t rasterSample = 0,
                uint32_t stillFrames = 0) {
-    if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
-    FrameSettings settings;
-    settings.width = width();
-    settings.height = height();
-    lens = onSceneCameraSensor(lens, scene_.scene.cameras.front(), width(), height());
-    settings.samplesPerPixel = kSamplesPerPixel;
-    gpu::FrameUniforms uniforms = makeFrameUniforms(scene_.scene, camera_, lens, settings);
+    gpu::FrameUniforms uniforms = uniformsFor(lens);
     uniforms.stillFrames = stillFrames;
     // A resting view's raster has its first sample (the pixel centre's depth and normals) before
     // the later ones, as in the frame pipeline.
@@ -97,6 +92,17 @@ class RayMaskRig {
     std::memcpy(frame.entries.data(), list + sizeof(gpu::RayWorkHeader),
                 frame.entries.size() * sizeof(glm::uvec2));
     return frame;
+  }
+
+  // The frame uniforms render() uses for `lens`.
+  gpu::FrameUniforms uniformsFor(Lens lens) const {
+    if (lens.focusDistance <= 0.0f) lens.focusDistance = suggestedFocus_;
+    FrameSettings settings;
+    settings.width = width();
+    settings.height = height();
+    lens = onSceneCameraSensor(lens, scene_.scene.cameras.front(), width(), height());
+    settings.samplesPerPixel = kSamplesPerPixel;
+    return makeFrameUniforms(scene_.scene, camera_, lens, settings);
   }
 
   uint32_t width() const { return images_.width; }
@@ -236,6 +242,32 @@ TEST(RayMask, EdgesBlurredOnBothSidesGetFewerRays) {
   expectListMatchesMask(allBlurred, rig.width());
   RayMaskRig::Frame focused = rig.render(kWideOpen);
   EXPECT_EQ(*std::max_element(focused.rays.begin(), focused.rays.end()), kSamplesPerPixel);
+}
+
+// ... but only where the spatial reconstruction fills in: focused in front of the whole scene,
+// every pixel's CoC lies between 0.9 and 1 times a 6.5 px blur (A f (1/S - 1/z) with S a tenth
+// of the nearest depth), under kRayMaskDenseCoc, so the strongest edges keep the full rays.
+TEST(RayMask, BlursTheReconstructionDoesNotReachKeepTheFullRays) {
+  RayMaskRig rig("builtin:dof", kWidth, kHeight);
+  RayMaskRig::Frame view = rig.render(kWideOpen);
+  float nearest = *std::min_element(view.depth.begin(), view.depth.end());
+  ASSERT_GT(nearest, 0.0f);
+  constexpr float kBlur = 6.5f;
+  ASSERT_LT(kBlur, gpu::kRayMaskDenseCoc);
+  ASSERT_GT(0.9f * kBlur, gpu::kDofFocusZone);
+  Lens lens{50.0f, 1.0f, 0.1f * nearest};
+  gpu::FrameUniforms atF1 = rig.uniformsFor(lens);
+  lens.fNumber = atF1.apertureDiameter * atF1.focalLengthPixels / (lens.focusDistance * kBlur);
+  gpu::FrameUniforms uniforms = rig.uniformsFor(lens);
+  for (float depth : view.depth) {
+    float coc = gpu::signedCocPixels(depth, uniforms.apertureDiameter, uniforms.focusDistance,
+                                     uniforms.focalLengthPixels);
+    ASSERT_GE(coc, 0.89f * kBlur);
+    ASSERT_LE(coc, 1.01f * kBlur);
+  }
+  RayMaskRig::Frame blurred = rig.render(lens);
+  ASSERT_GT(pixelsWithRays(blurred), 0u);
+  EXPECT_EQ(*std::max_element(blurred.rays.begin(), blurred.rays.end()), kSamplesPerPixel);
 }
 
 // A resting view also traces the pixels that an in-focus edge crosses (the raster's samples fall
