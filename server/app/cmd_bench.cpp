@@ -195,7 +195,9 @@ int runBench(std::span<const std::string> args) {
   };
   double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
   double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
-  PassTimes focusPullPasses;
+  PassTimes postProcessFocusPullPasses, focusPullPasses;
+  focusPull(RenderMode::PostProcess, true,
+            [&](const FrameStats& stats) { postProcessFocusPullPasses.add(stats); });
   std::vector<double> focusPullRays;
   focusPull(RenderMode::Hybrid, true, [&](const FrameStats& stats) {
     focusPullPasses.add(stats);
@@ -256,7 +258,8 @@ int runBench(std::span<const std::string> args) {
         "\"hybrid_frame_gpu_ms\":%.3f,\"raytrace_frame_gpu_ms\":%.3f,\"mask_coverage\":%.4f,"
         "\"hybrid_rays_per_frame\":%.0f,\"hybrid_passes_ms\":{%s},"
         "\"full_mask_trace_ms\":%.3f,\"full_mask_rays_per_frame\":%.0f,"
-        "\"postprocess_focus_pull_ms\":%.3f,\"hybrid_focus_pull_ms\":%.3f,"
+        "\"postprocess_focus_pull_ms\":%.3f,\"postprocess_focus_pull_passes_ms\":{%s},"
+        "\"hybrid_focus_pull_ms\":%.3f,"
         "\"hybrid_focus_pull_rays_per_frame\":%.0f,\"hybrid_focus_pull_passes_ms\":{%s},"
         "\"postprocess_cut_frame_ms\":%.3f,\"hybrid_cut_frame_ms\":%.3f,"
         "\"postprocess_multisampled_frame_ms\":%.3f,\"hybrid_multisampled_frame_ms\":%.3f,"
@@ -271,9 +274,10 @@ int runBench(std::span<const std::string> args) {
         mraysPerSecond, frames, comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
         postProcessGpuMs, hybridGpuMs, rayTraceGpuMs, maskCoverage, hybridRays,
         hybridPasses.text(true).c_str(), fullTraceMs, fullRays, postProcessFocusPullMs,
-        hybridFocusPullMs, median(focusPullRays), focusPullPasses.text(true).c_str(),
-        postProcessCutMs, hybridCutMs, postProcessMultisampledMs, hybridMultisampledMs,
-        hybridRestMs, median(restRays), restPasses.text(true).c_str(), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
+        postProcessFocusPullPasses.text(true).c_str(), hybridFocusPullMs, median(focusPullRays),
+        focusPullPasses.text(true).c_str(), postProcessCutMs, hybridCutMs,
+        postProcessMultisampledMs, hybridMultisampledMs, hybridRestMs, median(restRays),
+        restPasses.text(true).c_str(), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
         lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
@@ -322,6 +326,8 @@ int runBench(std::span<const std::string> args) {
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));
   std::printf("hybrid_passes_ms:%s (medians)\n", hybridPasses.text(false).c_str());
+  std::printf("postprocess_focus_pull_passes_ms:%s (medians)\n",
+              postProcessFocusPullPasses.text(false).c_str());
   std::printf("hybrid_focus_pull_passes_ms:%s (%.0f rays; medians)\n",
               focusPullPasses.text(false).c_str(), median(focusPullRays));
   std::printf(

@@ -125,15 +125,24 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
   size_t at = bench.stdoutText.find(restRays);
   ASSERT_NE(at, std::string::npos);
   EXPECT_GE(std::stod(bench.stdoutText.substr(at + restRays.size())), 64.0 * 36.0);
-  // A lens-only frame's passes: the DoF steps and the rays, no G-buffer work.
-  const std::string pullPasses = "\"hybrid_focus_pull_passes_ms\":{";
-  at = bench.stdoutText.find(pullPasses);
-  ASSERT_NE(at, std::string::npos);
-  std::string passes = bench.stdoutText.substr(at, bench.stdoutText.find('}', at) - at);
+  // A lens-only frame's passes: the DoF steps (and the hybrid's rays), no G-buffer work.
+  auto pullPasses = [&](const std::string& mode) {
+    const std::string member = "\"" + mode + "_focus_pull_passes_ms\":{";
+    size_t from = bench.stdoutText.find(member);
+    EXPECT_NE(from, std::string::npos) << member;
+    if (from == std::string::npos) return std::string();
+    return bench.stdoutText.substr(from, bench.stdoutText.find('}', from) - from);
+  };
+  std::string hybridPasses = pullPasses("hybrid"), postProcessPasses = pullPasses("postprocess");
   for (const char* pass : {"\"dof_gather\":", "\"hybrid_trace\":", "\"hybrid_temporal\":"})
-    EXPECT_NE(passes.find(pass), std::string::npos) << pass << " in " << passes;
-  for (const char* pass : {"\"visibility\":", "\"gbuffer\":", "\"gbuffer_shared\":"})
-    EXPECT_EQ(passes.find(pass), std::string::npos) << pass << " in " << passes;
+    EXPECT_NE(hybridPasses.find(pass), std::string::npos) << pass << " in " << hybridPasses;
+  EXPECT_NE(postProcessPasses.find("\"dof_gather\":"), std::string::npos) << postProcessPasses;
+  EXPECT_EQ(postProcessPasses.find("\"hybrid_trace\":"), std::string::npos) << postProcessPasses;
+  for (const char* pass : {"\"visibility\":", "\"gbuffer\":", "\"gbuffer_shared\":"}) {
+    EXPECT_EQ(hybridPasses.find(pass), std::string::npos) << pass << " in " << hybridPasses;
+    EXPECT_EQ(postProcessPasses.find(pass), std::string::npos)
+        << pass << " in " << postProcessPasses;
+  }
 }
 
 TEST(Cli, BadQualityInputIsAOneLineError) {
