@@ -232,5 +232,5 @@ void main() {
       result = mix(clamp(historyAt(from), low, high), current, kMovingBlend);
   }
   if (frame.rasterSample == 0u) imageStore(samplesAveraged, pixel, vec4(1.0));
-  imageStore(outColor, pixel, vec4(result, 1.0));
+  imageStore(outColor, pixel, vec4(nearestHalf(result), 1.0));
 }

@@ -141,7 +141,7 @@ void resolveFirstTriangle(ivec2 pixel, bool inside) {
     listed = share < 1.0;
     Sample s = shade(samples.triangles[0], listed ? mean : samples.positions[0]);
     float counts = listed ? float(kStillRasterSamples) : 1.0;
-    imageStore(outColor, pixel, vec4(share * s.color, signedCoc(s.linearDepth)));
+    imageStore(outColor, pixel, vec4(nearestHalf(share * s.color), signedCoc(s.linearDepth)));
     imageStore(outSpecular, pixel, vec4(share * s.specular, counts));
     imageStore(outMotion, pixel, vec4(0.0));
   }
@@ -174,7 +174,7 @@ void resolveOtherTriangles(uint index) {
     }
   }
   vec4 firstColor = imageLoad(outColor, pixel);
-  imageStore(outColor, pixel, vec4(firstColor.rgb + color, firstColor.a));
+  imageStore(outColor, pixel, vec4(nearestHalf(firstColor.rgb + color), firstColor.a));
   vec4 firstSpecular = imageLoad(outSpecular, pixel);
   imageStore(outSpecular, pixel, vec4(firstSpecular.rgb + specular, firstSpecular.a));
 }
@@ -193,7 +193,7 @@ void main() {
   if (!inside) return;
   vec2 position = vec2(pixel) + 0.5 + frame.rasterJitter;
   Sample s = shade(triangleNumber(imageLoad(visibility, pixel).r), position);
-  imageStore(outColor, pixel, vec4(s.color, signedCoc(s.linearDepth)));
+  imageStore(outColor, pixel, vec4(nearestHalf(s.color), signedCoc(s.linearDepth)));
   imageStore(outSpecular, pixel, vec4(s.specular, 1.0));
   if (frame.rasterSample > 0u) {
     imageStore(outMotion, pixel, vec4(0.0));
