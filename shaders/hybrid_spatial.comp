@@ -28,7 +28,7 @@ layout(set = 1, binding = 7, rg16f) uniform readonly image2D variance;  // of on
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
 
-const int kTaps = 12;
+const int kTaps = 6;  // pairs of taps
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
 const float kVarianceMin = 1e-4, kVarianceMax = 1.0;
 const float kLuminanceSigmas = 2.0;
@@ -57,19 +57,34 @@ void main() {
   // of a branch under a mask (lavapipe) still leaves a loop that no lane enters.
   int taps = radius >= 1.0 ? kTaps : 0;
   for (int i = 0; i < taps; ++i) {
-    // A Vogel spiral over the disc, turned per pixel so that no pattern shows.
-    float r = radius * sqrt((float(i) + 0.5) / float(kTaps));
-    float angle = 2.0 * kPi * (float(i) * 0.618034 + turn);
-    ivec2 q = pixel + ivec2(round(r * vec2(cos(angle), sin(angle))));
-    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-    if (imageLoad(rays, q).r == 0u) continue;
-    vec4 qNear = imageLoad(historyNear, q);
-    if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
-    vec4 qFar = imageLoad(historyFar, q);
-    float w = exp(-abs(luminance(qNear.rgb + qFar.rgb) - lum) / (kLuminanceSigmas * noise));
-    nearSum += w * qNear;
-    farSum += w * qFar;
-    weightSum += w;
+    // A Vogel spiral over the half disc, turned per pixel so that no pattern shows, and each
+    // tap's mirror through the pixel: the pair is weighted by how far its mean lies from this
+    // pixel's luminance, so that across a smooth gradient of the blur (a ramp, whose pairs average
+    // to the pixel) the neighbours on its brighter and darker side count alike. Weighted one by
+    // one, the taps on the ramp's flatter side won at its foot and shoulder, which came out too
+    // sharp by up to a few levels, more so as the noise fell.
+    float r = radius * sqrt((float(i) + 0.5) / float(taps));
+    float angle = kPi * (float(i) * 0.618034 + turn);
+    ivec2 offset = ivec2(round(r * vec2(cos(angle), sin(angle))));
+    vec4 pairNear = vec4(0.0), pairFar = vec4(0.0);
+    float pairLum = 0.0, pairTaps = 0.0;
+    for (int side = -1; side <= 1; side += 2) {
+      ivec2 q = pixel + side * offset;
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      if (imageLoad(rays, q).r == 0u) continue;
+      vec4 qNear = imageLoad(historyNear, q);
+      if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
+      vec4 qFar = imageLoad(historyFar, q);
+      pairNear += qNear;
+      pairFar += qFar;
+      pairLum += luminance(qNear.rgb + qFar.rgb);
+      pairTaps += 1.0;
+    }
+    if (pairTaps == 0.0) continue;
+    float w = exp(-abs(pairLum / pairTaps - lum) / (kLuminanceSigmas * noise));
+    nearSum += w * pairNear;
+    farSum += w * pairFar;
+    weightSum += w * pairTaps;
   }
   imageStore(outNear, pixel, nearSum / weightSum);
   imageStore(outFar, pixel, vec4(farSum.rgb / weightSum, far.a));
