@@ -23,9 +23,8 @@ float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 // The 16-bit float nearest to v (its 13 low mantissa bits rounded off), which a 16-bit image then
 // holds exactly: a device may convert to a 16-bit format by rounding towards zero (Vulkan allows
 // it; lavapipe does), and the raster's running average, stored so, lost a fraction of a step
-// every frame, which the later frames kept: a still view's 16 frames came out up to a quarter of
-// an 8-bit level darker than the supersampled image, with rings where smooth shading crossed a
-// level.
+// every frame, which the later frames kept: a still view's 16 frames came out up to a sixth of an
+// 8-bit level darker, with rings where smooth shading crossed a level.
 vec3 nearestHalf(vec3 v) { return uintBitsToFloat((floatBitsToUint(v) + 0x1000u) & ~0x1fffu); }
 
 #endif
