@@ -95,7 +95,9 @@ vec3 smallBlur(ivec2 offset, float coc, vec3 sharp, bool subPixel, bool wide) {
         weight = mix(lens, weight, saturate((bothReach - 1.0) * 2.0));
       }
       sum += vec4(windowColor[j], 1.0) * weight;
-      if (coc < 0.0) {
+      // Behind a near pixel: empty unless its disc reaches the taps (a CoC of -1 px or less),
+      // never in a narrow tile.
+      if (kWideBlurs && coc < 0.0) {
         if (windowCoc[j] > 0.5 * coc)
           behind += vec4(windowColor[j], 1.0) * inDisc;
         else
@@ -131,7 +133,9 @@ vec4 smallNearSpread(ivec2 offset, float coc) {
 void main() {
   ivec2 quad = listedQuad(kList);
   ivec2 size = ivec2(frame.imageSize);
-  CompositeQuad q = loadQuad(quad);
+  // A narrow tile's |CoC| is under kDofNarrowCoc and no near field is in its reach: the
+  // half-resolution layers show nowhere in it.
+  CompositeQuad q = loadQuad(quad, kWideBlurs);
   // Blurs under a pixel's width on a still view (in motion, the reprojected anti-aliasing history
   // is already about that soft).
   bool subPixel = frame.previousViewProj == frame.viewProj;

@@ -10,7 +10,7 @@
 void main() {
   ivec2 quad = listedQuad(kDofListLayers);
   ivec2 size = ivec2(frame.imageSize);
-  CompositeQuad q = loadQuad(quad);
+  CompositeQuad q = loadQuad(quad, true);
   [[unroll]] for (int i = 0; i < 4; ++i) {
     ivec2 pixel = q.first + ivec2(i & 1, i >> 1);
     if (any(greaterThanEqual(pixel, size))) continue;

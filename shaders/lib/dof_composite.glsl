@@ -8,6 +8,7 @@
 #define HDOF_LIB_DOF_COMPOSITE_GLSL
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
+#include "lib/skippable.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -41,7 +42,9 @@ ivec2 listedQuad(uint list) {
   return tile * int(kDofTileSize / 2u) + ivec2(gl_LocalInvocationID.xy);
 }
 
-CompositeQuad loadQuad(ivec2 quad) {
+// layers: whether the half-resolution layers may show in the quad's tile (false: neither is
+// loaded).
+CompositeQuad loadQuad(ivec2 quad, bool layers) {
   CompositeQuad q;
   q.first = quad * 2;
   ivec2 size = ivec2(frame.imageSize);
@@ -52,10 +55,10 @@ CompositeQuad loadQuad(ivec2 quad) {
     q.sharp[i] = texel.rgb;
     q.coc[i] = texel.a;
     q.blur[i] = halfResAmount(q.coc[i]);
-    q.anyBlur = q.anyBlur || q.blur[i] > 0.0;
+    q.anyBlur = q.anyBlur || layers && q.blur[i] > 0.0;
   }
-  q.withNear = imageLoad(dilatedTiles, q.first / int(kDofTileSize)).y <= -kDofFocusZone;
-  if (q.anyBlur || q.withNear) {
+  q.withNear = layers && imageLoad(dilatedTiles, q.first / int(kDofTileSize)).y <= -kDofFocusZone;
+  SKIPPABLE_IF(q.anyBlur || q.withNear) {
     ivec2 halfLast = imageSize(farLayer) - 1;
     [[unroll]] for (int j = 0; j < 9; ++j) {
       ivec2 source = clamp(quad + ivec2(j % 3 - 1, j / 3 - 1), ivec2(0), halfLast);
