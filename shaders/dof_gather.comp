@@ -31,18 +31,20 @@ const float kHoleFill = 1e-4;
 vec4 farSum = vec4(0.0);  // rgb * weight, weight
 vec4 nearSum = vec4(0.0);
 float centerRadius;
+float centerInverseRadius;
 float centerInverseArea;  // 1 / r^2; the pi cancels out of every weight
 float nearestCoc;  // the dilated tile's
 float inverseLayerDepth;  // 1 / how far behind the nearest CoC a tap is still near layer
-float rampWidth;
+float inverseRampWidth;  // 1 / the width of a disc's edge ramp (coverage)
 
 // A tap at `distance` covers the centre where its disc (radius scaled by the aperture's shape in
 // that direction) reaches it; the ramp is as wide as the tap spacing, so partial rings add up to
 // the disc's area and the disc edge does not step from ring to ring. It is never wider than the
 // disc: a nearly sharp tap covers its own pixel, not the ring around it (that would put an
-// in-focus silhouette's colour into the blurred background around it, a halo).
-float coverage(float radius, float distance) {
-  return saturate((radius - distance) / min(rampWidth, radius) + 0.5);
+// in-focus silhouette's colour into the blurred background around it, a halo). inverseRadius is
+// 1 / radius (one division a tap serves both this and the tap's area).
+float coverage(float radius, float inverseRadius, float distance) {
+  return saturate((radius - distance) * max(inverseRampWidth, inverseRadius) + 0.5);
 }
 
 // Aperture blades: the distance to the edge of a regular polygon of unit circumradius, seen from
@@ -58,20 +60,22 @@ float apertureBoundary(float angle) {
 // so each variant of the gather loop compiles without the work it does not need.
 void accumulate(vec4 tap, float distance, float angle, bool withNear, bool polygon) {
   float radius = halfResRadius(tap.a);
-  float inverseArea = 1.0 / (radius * radius);
+  float inverseRadius = 1.0 / radius;
+  float inverseArea = inverseRadius * inverseRadius;
   // The tap's blur reaches this pixel along the opposite direction; in image space (y down) a
   // far-field blur is the aperture upright and a near-field one the aperture inverted.
   float farShape = polygon ? apertureBoundary(kPi - angle) : 1.0;
   float near = 0.0;
   if (withNear)
     near = nearness(tap.a) * saturate(2.0 - 2.0 * (tap.a - nearestCoc) * inverseLayerDepth);
-  float farRadius = min(radius, centerRadius);
-  float farWeight =
-      coverage(farRadius * farShape, distance) * max(inverseArea, centerInverseArea) + kHoleFill;
+  float farWeight = coverage(min(radius, centerRadius) * farShape,
+                             max(inverseRadius, centerInverseRadius) / farShape, distance) *
+                        max(inverseArea, centerInverseArea) + kHoleFill;
   farSum += vec4(tap.rgb, 1.0) * (farWeight * (1.0 - near));
   if (withNear) {
     float nearShape = polygon ? apertureBoundary(-angle) : 1.0;
-    nearSum += vec4(tap.rgb, 1.0) * (coverage(radius * nearShape, distance) * inverseArea * near);
+    float nearCoverage = coverage(radius * nearShape, inverseRadius / nearShape, distance);
+    nearSum += vec4(tap.rgb, 1.0) * (nearCoverage * inverseArea * near);
   }
 }
 
@@ -114,9 +118,10 @@ void main() {
   }
   int rings = gatherRings(tileCoc);
   float spacing = ringSpacing(tileCoc);
-  rampWidth = max(spacing, 1.0);
+  inverseRampWidth = 1.0 / max(spacing, 1.0);
   centerRadius = halfResRadius(center.a);
-  centerInverseArea = 1.0 / (centerRadius * centerRadius);
+  centerInverseRadius = 1.0 / centerRadius;
+  centerInverseArea = centerInverseRadius * centerInverseRadius;
   nearestCoc = tile.y;
   inverseLayerDepth = 1.0 / max(2.0, 0.5 * abs(nearestCoc));
   float blades = frame.bladeCount;
