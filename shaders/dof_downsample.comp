@@ -17,6 +17,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
+#include "lib/skippable.glsl"
 
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D color;
 layout(set = 1, binding = 2, rgba32f) uniform readonly image2D normalDepth;
@@ -63,8 +64,7 @@ void main() {
     [[unroll]] for (int k = 0; k < 4; ++k)
       nearBeside = nearBeside || wideNearBlurInFront(around[j + kBeside[k]], around[j]);
   }
-  // A loop rather than an if: lavapipe skips a loop that no lane enters.
-  for (int n = 0; n < (nearBeside ? 1 : 0); ++n) {
+  SKIPPABLE_IF(nearBeside) {
     vec3 ring[16];
     [[unroll]] for (int j = 0; j < 16; ++j) {
       ivec2 inBlock = ivec2(j % 4, j / 4) - 1;

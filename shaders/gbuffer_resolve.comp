@@ -17,6 +17,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/shading.glsl"
 #include "lib/camera_rays.glsl"
 #include "shared/ray_work.h"
+#include "lib/skippable.glsl"
 
 // Which step this pipeline runs (gbuffer_pass.cpp picks): kOneSample, a frame after a cut or in
 // motion; kFirstTriangle and kOtherTriangles, a still view's later frames, whose
@@ -164,9 +165,7 @@ void resolveOtherTriangles(uint index) {
   for (int k = 1; k < 4; ++k) {
     bool counted = false;
     for (int j = 0; j < k; ++j) counted = counted || samples.triangles[j] == samples.triangles[k];
-    // A loop rather than an if: lavapipe runs an if's body whatever its lanes' conditions, but
-    // skips a loop that no lane enters.
-    for (bool first = !counted; first; first = false) {
+    SKIPPABLE_IF(!counted) {
       float share;
       Sample s = shade(samples.triangles[k], meanPosition(samples, k, share));
       color += share * s.color;

@@ -25,6 +25,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
 #include "shared/ray_work.h"
+#include "lib/skippable.glsl"
 
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D spread;
 layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
@@ -54,9 +55,8 @@ uint rayCount(ivec2 pixel, ivec2 size) {
       sharpest = min(sharpest, row.z);
     }
   }
-  // A loop rather than an if: lavapipe runs an if's body whatever its lanes' conditions, but skips
-  // a loop that no lane enters, and most tiles are reached by no such disc.
-  for (bool far = imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0; far; far = false) {
+  // Most tiles are reached by no such disc.
+  SKIPPABLE_IF(imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0) {
     nearEdge = true;
     strongest = 1.0;
     sharpest = min(sharpest, abs(signedCoc(imageLoad(normalDepth, pixel).w)));

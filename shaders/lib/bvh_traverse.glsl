@@ -5,6 +5,7 @@
 // Needs lib/scene.glsl.
 #ifndef HDOF_LIB_BVH_TRAVERSE_GLSL
 #define HDOF_LIB_BVH_TRAVERSE_GLSL
+#include "lib/skippable.glsl"
 
 // Nodes and triangles read as 16-byte texels of uniform texel buffers (three each): one typed
 // load each, through the texture cache on GPUs; lavapipe turns them into vector gathers, where it
@@ -149,10 +150,9 @@ bool traceClosest(vec3 origin, vec3 direction, float tMin, float tMax, out RayHi
       if (e0 < kNoEntry) {
         uint others = uint(e1 < kNoEntry) + uint(e2 < kNoEntry) + uint(e3 < kNoEntry);
         if (others > 0u) {
-          // The nearest goes next; the others become the newest group, the last one stored. A
-          // loop rather than an if: lavapipe runs an if's body whatever its lanes' conditions,
-          // but skips a loop that no lane enters, and most visits store nothing.
-          for (bool spill = groupCount > 0u; spill; spill = false) {
+          // The nearest goes next; the others become the newest group, the last one stored
+          // (most visits store nothing).
+          SKIPPABLE_IF(groupCount > 0u) {
             if (stackSize < kBvhStackSize) {
               stackGroups[stackSize] = group | (groupCount << 6u);
               stackEntries[stackSize] = groupEntries.x;
