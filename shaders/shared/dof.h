@@ -73,6 +73,12 @@ HDOF_NAMESPACE_END
 static_assert(sizeof(hdof::gpu::DofTileLists) == 16 * hdof::gpu::kDofListCount);
 static_assert(hdof::gpu::kDofTileReach * hdof::gpu::kDofTileSize >= hdof::gpu::kDofMaxCoc / 2.0f,
               "the tile dilation must reach as far as the largest CoC radius");
+// dof_composite.comp makes the narrow list's pipeline without the half-resolution layers and
+// without the sums behind a near pixel.
+static_assert(hdof::gpu::kDofNarrowCoc <= hdof::gpu::kDofSmallBlurCoc,
+              "a narrow tile's pixels must show no half-resolution layer");
+static_assert(hdof::gpu::kDofNarrowNearCoc >= -1.0f,
+              "a narrow tile's near pixels must blur over no neighbour (a disc under 0.5 px)");
 #endif
 
 #endif
