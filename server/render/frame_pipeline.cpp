@@ -124,7 +124,9 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
         gbuffer_.record(steps, im.gbuffer, uniforms, raster_.valid);
       radiance = &im.gbuffer.color;
       if (request.mode != RenderMode::Pinhole) {
-        if (!keepDofOutput_) postProcess_.record(steps, im.gbuffer, im.dof, keepDofTiles_);
+        if (!keepDofOutput_)
+          postProcess_.record(steps, im.gbuffer, im.dof, keepDofTiles_,
+                              uniforms.bladeCount >= 3.0f);
         radiance = &im.dof.output;
       }
       if (request.mode == RenderMode::Hybrid) {

@@ -14,8 +14,9 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
       dilate_(context, "dof_dilate.comp"),
       tileLists_(context, "dof_tile_lists.comp"),
       prefilter_(context, "dof_prefilter.comp"),
-      gather_(context, "dof_gather.comp"),
       median_(context, "dof_median.comp"),
+      gatherRound_(context, "dof_gather.comp"),
+      gatherBladed_(context, "dof_gather.comp", nullptr, {{"kBladed", 1}}),
       compositeNarrow_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNarrow}}),
       compositeWide_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListWide}}),
       compositeNear_(context, "dof_composite.comp", nullptr, {{"kList", gpu::kDofListNear}}),
@@ -25,7 +26,7 @@ PostProcessDof::PostProcessDof(const gpu::Context& context)
       compositeLayers_(context, "dof_composite_layers.comp") {}
 
 void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const DofImages& d,
-                            bool tilesStand) const {
+                            bool tilesStand, bool bladed) const {
   // One thread per half-resolution pixel, which also writes the CoC of its 2x2 pixels.
   steps.dispatch(downsample_,
                  {{"color", g.color},
@@ -54,7 +55,7 @@ void PostProcessDof::record(StepRecorder& steps, const GBufferImages& g, const D
                   {"prefiltered", d.prefiltered}},
                  Grid::over(d.prefiltered));
   // 8x8 half-resolution pixels are one tile: the kernel size is uniform across a workgroup.
-  steps.dispatch(gather_,
+  steps.dispatch(bladed ? gatherBladed_ : gatherRound_,
                  {{"prefiltered", d.prefiltered},
                   {"dilatedTiles", d.dilatedTiles},
                   {"farLayer", d.farLayer},

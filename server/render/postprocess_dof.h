@@ -15,12 +15,15 @@ class PostProcessDof {
   explicit PostProcessDof(const gpu::Context& context);
   // Reads gbuffer.color and gbuffer.normalDepth; writes dof, its result in dof.output.
   // tilesStand: dof.tiles, .dilatedTiles and .tileLists, which follow the CoC alone (depth and
-  // lens), are those of this G-buffer's depth through this lens already.
+  // lens), are those of this G-buffer's depth through this lens already. bladed: the aperture
+  // has blades (FrameUniforms::bladeCount 3 or more).
   void record(StepRecorder& steps, const GBufferImages& gbuffer, const DofImages& dof,
-              bool tilesStand) const;
+              bool tilesStand, bool bladed) const;
 
  private:
-  gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, gather_, median_;
+  gpu::ComputeProgram downsample_, tiles_, dilate_, tileLists_, prefilter_, median_;
+  // dof_gather.comp made for a round aperture and for one of blades.
+  gpu::ComputeProgram gatherRound_, gatherBladed_;
   // dof_composite.comp made for the narrow, wide, near, wider and near-wider lists of tiles
   // (shared/dof.h).
   gpu::ComputeProgram compositeNarrow_, compositeWide_, compositeNear_, compositeWider_,
