@@ -24,10 +24,10 @@ layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D farLayer;  // a: centre CoC
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D nearLayer;  // premultiplied
 
-
-// Whether this pipeline serves an aperture of blades (frame.bladeCount 3 or more; the round one's
-// is made without their polygon: a device that runs both sides of a branch under a mask, and each
-// variant of the gather loop, paid for both: closeup focus pull, one thread, 5.6 -> 4.9 ms).
+// Whether this pipeline serves an aperture of blades (frame.bladeCount 3 or more). The round
+// aperture's is made without the polygon: with both behind a branch, a device that runs both
+// sides under a mask paid for both (closeup focus pull, one thread: the step 5.6 -> 5.0 ms, with
+// the near layer summed in every tile).
 layout(constant_id = 0) const bool kBladed = false;
 
 // A far tap's weight where it does not cover the centre: small against any covering tap's.
