@@ -16,9 +16,10 @@ export function statusText({ state, message }, framesShown) {
 
 // The banner over a pane whose session is gone, or null while it is connected.
 export function bannerText({ state, message, attempt }) {
+  const failed = attempt - 1;
   if (state === 'reconnecting')
     return `Disconnected: ${message}. Input is not sent until the daemon is back` +
-      (attempt > 1 ? ` (${attempt - 1} attempts failed so far).` : '.');
+      (failed > 0 ? ` (${failed} ${failed === 1 ? 'attempt' : 'attempts'} failed so far).` : '.');
   if (state === 'error') return `Disconnected: ${message}`;
   return null;
 }

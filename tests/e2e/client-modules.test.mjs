@@ -260,4 +260,7 @@ test('the status waits for the first frame; a lost daemon gets a banner with its
   assert.equal(bannerText({ state: 'live' }), null);
   const banner = bannerText({ state: 'reconnecting', message: 'the daemon stopped; reconnect attempt 3 in 2.0 s', attempt: 3 });
   assert.match(banner, /^Disconnected: the daemon stopped; reconnect attempt 3 in 2\.0 s\..*2 attempts failed/);
+  const second = bannerText({ state: 'reconnecting', message: 'closed (1006)', attempt: 2 });
+  assert.match(second, /\(1 attempt failed so far\)\.$/);
+  assert.match(bannerText({ state: 'reconnecting', message: 'closed (1006)', attempt: 1 }), /back\.$/);
 });
