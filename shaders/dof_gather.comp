@@ -49,7 +49,7 @@ float inverseRampWidth;  // 1 / the width of a disc's edge ramp (coverage)
 // in-focus silhouette's colour into the blurred background around it, a halo). inverseRadius is
 // 1 / radius (one division a tap serves both this and the tap's area).
 float coverage(float radius, float inverseRadius, float distance) {
-  return saturate((radius - distance) * max(inverseRampWidth, inverseRadius) + 0.5);
+  return saturate((radius - distance) * maxOfPositive(inverseRampWidth, inverseRadius) + 0.5);
 }
 
 // Aperture blades: the distance to the edge of a regular polygon of unit circumradius, seen from
@@ -71,9 +71,10 @@ void accumulate(vec4 tap, float distance, float angle) {
   // far-field blur is the aperture upright and a near-field one the aperture inverted.
   float farShape = kBladed ? apertureBoundary(kPi - angle) : 1.0;
   float near = nearness(tap.a) * saturate(2.0 - 2.0 * (tap.a - nearestCoc) * inverseLayerDepth);
-  float farWeight = coverage(min(radius, centerRadius) * farShape,
-                             max(inverseRadius, centerInverseRadius) / farShape, distance) *
-                        max(inverseArea, centerInverseArea) + kHoleFill;
+  float farWeight = coverage(minOfPositive(radius, centerRadius) * farShape,
+                             maxOfPositive(inverseRadius, centerInverseRadius) / farShape,
+                             distance) *
+                        maxOfPositive(inverseArea, centerInverseArea) + kHoleFill;
   farSum += vec4(tap.rgb, 1.0) * (farWeight * (1.0 - near));
   float nearShape = kBladed ? apertureBoundary(-angle) : 1.0;
   float nearCoverage = coverage(radius * nearShape, inverseRadius / nearShape, distance);

@@ -15,14 +15,18 @@ layout(set = 1, binding = 3, rg16f) uniform readonly image2D dilatedTiles;
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D farFiltered;
 layout(set = 1, binding = 5, rgba16f) uniform writeonly image2D nearFiltered;
 
-void sort2(inout vec4 a, inout vec4 b) {
-  vec4 low = min(a, b);
+void sort2(inout ivec4 a, inout ivec4 b) {
+  ivec4 low = min(a, b);
   b = max(a, b);
   a = low;
 }
 
-// The median of nine (Paeth's 19-exchange network), per component; ends in v[4].
-vec4 median9(vec4 v[9]) {
+// The median of nine (Paeth's 19-exchange network), per component; ends in v[4]. Sorted on the
+// values' bits as integers (as maxOfPositive does: no colour is negative, and the far layer's
+// alpha, a signed CoC, is not taken from the median): the step 1.73 -> 1.56 ms on one thread.
+vec4 median9(vec4 values[9]) {
+  ivec4 v[9];
+  [[unroll]] for (int i = 0; i < 9; ++i) v[i] = floatBitsToInt(values[i]);
   sort2(v[1], v[2]); sort2(v[4], v[5]); sort2(v[7], v[8]);
   sort2(v[0], v[1]); sort2(v[3], v[4]); sort2(v[6], v[7]);
   sort2(v[1], v[2]); sort2(v[4], v[5]); sort2(v[7], v[8]);
@@ -30,7 +34,7 @@ vec4 median9(vec4 v[9]) {
   sort2(v[3], v[6]); sort2(v[1], v[4]); sort2(v[2], v[5]);
   sort2(v[4], v[7]); sort2(v[4], v[2]); sort2(v[6], v[4]);
   sort2(v[4], v[2]);
-  return v[4];
+  return intBitsToFloat(v[4]);
 }
 
 void main() {

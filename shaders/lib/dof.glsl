@@ -6,6 +6,16 @@
 
 float saturate(float x) { return clamp(x, 0.0, 1.0); }
 
+// The larger and the smaller of two floats that are neither negative nor NaN, compared as signed
+// integers, whose order their bits keep: on a CPU device a float max or min is three
+// instructions (a NaN check and a blend after it), an integer one is one.
+float maxOfPositive(float a, float b) {
+  return intBitsToFloat(max(floatBitsToInt(a), floatBitsToInt(b)));
+}
+float minOfPositive(float a, float b) {
+  return intBitsToFloat(min(floatBitsToInt(a), floatBitsToInt(b)));
+}
+
 float signedCoc(float linearDepth) {
   float coc = pixelCoc(linearDepth);
   return clamp(coc, -kDofMaxCoc, kDofMaxCoc);
