@@ -51,8 +51,8 @@ uint rayCount(ivec2 pixel, ivec2 size) {
     vec3 row = imageLoad(spread, pixel + ivec2(0, dy)).xyz;
     if (row.x >= float(abs(dy))) {
       nearEdge = true;
-      strongest = max(strongest, row.y);
-      sharpest = min(sharpest, row.z);
+      strongest = maxOfPositive(strongest, row.y);
+      sharpest = minOfPositive(sharpest, row.z);
     }
   }
   // Most tiles are reached by no such disc.

@@ -32,8 +32,8 @@ void main() {
     if (edgeRadius > 0.0 && squared >= 0.0) {
       halfHeight = max(halfHeight, sqrt(squared));
       vec2 edge = imageLoad(strength, source).xy;
-      strongest = max(strongest, edge.x);
-      sharpest = min(sharpest, edge.y);
+      strongest = maxOfPositive(strongest, edge.x);
+      sharpest = minOfPositive(sharpest, edge.y);
     }
   }
   imageStore(spread, pixel, vec4(halfHeight, strongest, sharpest, 0.0));
