@@ -310,9 +310,10 @@ ImageRgba8 FramePipeline::image() const {
 }
 
 void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene) {
-  // No side a power of two, as few viewports have: llvmpipe compiles a shader again for images
-  // whose sides are (a warm-up at 64x36 left every 320x180 session's first frame to compile).
-  constexpr uint32_t kWidth = 66, kHeight = 38;
+  // No image with a side that is a power of two, as few viewports make and no scaled frame does
+  // (a warm-up at 64x36 left every 320x180 session's first frame to compile).
+  const uint32_t kWidth = sideWithoutPowerOfTwoImages(66),
+                 kHeight = sideWithoutPowerOfTwoImages(38);
   FramePipeline pipeline(context, scene, gpuScene, kWidth, kHeight);
   FrameRequest request;
   request.settings.width = kWidth;
