@@ -15,7 +15,7 @@ layout(set = 1, binding = 2, rg16f) uniform writeonly image2D dilated;
 
 void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 count = imageSize(tiles);
+  ivec2 count = tileCount();
   if (any(greaterThanEqual(tile, count))) return;
   float largest = 0.0;
   float nearest = 0.0;

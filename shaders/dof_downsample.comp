@@ -43,7 +43,7 @@ float frontShare(vec3 own, vec3 front, vec3 back) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, imageSize(halfColorCoc)))) return;
+  if (any(greaterThanEqual(pixel, halfImageSize()))) return;
   ivec2 size = ivec2(frame.imageSize);
   // The CoCs of the 4x4 pixels around the block (its 2x2 and the pixels beside them; the
   // corners are not read).

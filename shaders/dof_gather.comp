@@ -82,7 +82,7 @@ void accumulate(vec4 tap, float distance, float angle) {
 }
 
 void gatherRings(ivec2 pixel, int rings, float spacing) {
-  ivec2 last = imageSize(prefiltered) - 1;
+  ivec2 last = halfImageSize() - 1;
   float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
   for (int ring = 1; ring <= rings; ++ring) {
     int count = 8 * ring;
@@ -109,7 +109,7 @@ void gatherRings(ivec2 pixel, int rings, float spacing) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(pixel, imageSize(prefiltered)))) return;
+  if (any(greaterThanEqual(pixel, halfImageSize()))) return;
   vec4 center = imageLoad(prefiltered, pixel);
   vec2 tile = imageLoad(dilatedTiles, tileOfHalfResPixel(pixel)).xy;
   float tileCoc = tile.x;

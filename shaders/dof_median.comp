@@ -39,7 +39,7 @@ vec4 median9(vec4 values[9]) {
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = imageSize(farLayer);
+  ivec2 size = halfImageSize();
   if (any(greaterThanEqual(pixel, size))) return;
   vec4 farCenter = imageLoad(farLayer, pixel);
   // Tiles in focus throughout were copied by the gather: nothing to clean.

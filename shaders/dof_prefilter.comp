@@ -19,7 +19,7 @@ const float kGapFill = 0.7;
 
 void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 size = imageSize(halfColorCoc);
+  ivec2 size = halfImageSize();
   if (any(greaterThanEqual(pixel, size))) return;
   vec4 center = imageLoad(halfColorCoc, pixel);
   float tileCoc = imageLoad(dilatedTiles, tileOfHalfResPixel(pixel)).x;

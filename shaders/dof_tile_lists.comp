@@ -22,7 +22,7 @@ layout(set = 1, binding = 3, std430) buffer TileLists {
 
 void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 count = imageSize(tiles);
+  ivec2 count = tileCount();
   if (any(greaterThanEqual(tile, count))) return;
   vec4 own = imageLoad(tiles, tile);  // largest |CoC|, nearest CoC, small blur, small near
   float smallBlur = own.z;  // 0: none, 1: under kDofWideCoc, 2: wider

@@ -22,7 +22,7 @@ layout(set = 1, binding = 2, rgba16f) uniform writeonly image2D tiles;
 
 void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-  if (any(greaterThanEqual(tile, imageSize(tiles)))) return;
+  if (any(greaterThanEqual(tile, tileCount()))) return;
   ivec2 first = tile * int(kDofTileSize);
   ivec2 last = min(first + int(kDofTileSize), ivec2(frame.imageSize)) - 1;
   float largest = 0.0;

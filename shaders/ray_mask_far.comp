@@ -24,7 +24,7 @@ const int kFarTiles = int(ceil(0.5 * kRayMaskFarReach / float(kDofTileSize)));
 
 void main() {
   ivec2 tile = ivec2(gl_GlobalInvocationID.xy);
-  ivec2 count = imageSize(result);
+  ivec2 count = tileCount();
   if (any(greaterThanEqual(tile, count))) return;
   ivec2 step = kColumns ? ivec2(0, 1) : ivec2(1, 0);
   float found = kColumns ? 0.0 : -1.0;

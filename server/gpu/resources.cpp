@@ -1,5 +1,7 @@
 #include "gpu/resources.h"
 
+#include <bit>
+
 namespace hdof::gpu {
 namespace {
 
@@ -74,10 +76,16 @@ Buffer createBufferWithData(const Context& context, std::span<const std::byte> b
 }
 
 Image::Image(const Context& context, const ImageDesc& desc, const std::string& name) : desc_(desc) {
+  auto allocated = [&](uint32_t side) {
+    if (!desc.sidesOffPowerOfTwo) return side;
+    while (std::has_single_bit(side)) ++side;
+    return side;
+  };
   VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   info.imageType = VK_IMAGE_TYPE_2D;
   info.format = desc.format;
-  info.extent = {desc.width, desc.height, 1};
+  allocated_ = {allocated(desc.width), allocated(desc.height)};
+  info.extent = {allocated_.width, allocated_.height, 1};
   info.mipLevels = desc.mipLevels;
   info.arrayLayers = desc.layers;
   info.samples = desc.samples;
@@ -122,13 +130,18 @@ Image ImageBatch::make(uint32_t width, uint32_t height, VkFormat format, const s
   constexpr VkImageUsageFlags kUsage = VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
                                        VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                                        VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-  Image image = createImage2D(context_, width, height, format, kUsage | extraUsage, name);
-  made_.push_back(image.get());
-  return image;
+  ImageDesc desc;
+  desc.width = width;
+  desc.height = height;
+  desc.format = format;
+  desc.usage = kUsage | extraUsage;
+  return make(desc, name);
 }
 
 Image ImageBatch::make(const ImageDesc& desc, const std::string& name) {
-  Image image(context_, desc, name);
+  ImageDesc padded = desc;
+  padded.sidesOffPowerOfTwo = true;
+  Image image(context_, padded, name);
   made_.push_back(image.get());
   return image;
 }

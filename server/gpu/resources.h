@@ -102,6 +102,11 @@ struct ImageDesc {
   VkImageUsageFlags usage = VK_IMAGE_USAGE_STORAGE_BIT;
   VkImageAspectFlags aspect = VK_IMAGE_ASPECT_COLOR_BIT;
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+  // Allocated with each side that is a power of two one texel longer (three for sides of one and
+  // two), the extra texels unused: width and height stay the used part, which copies and
+  // dispatches cover. llvmpipe compiles a shader again for images with such sides, and a frame
+  // of some viewports makes them (a side of 1015 pixels is 64 tiles across).
+  bool sidesOffPowerOfTwo = false;
 };
 
 class Image {
@@ -113,21 +118,23 @@ class Image {
   const ImageDesc& desc() const { return desc_; }
   uint32_t width() const { return desc_.width; }
   uint32_t height() const { return desc_.height; }
+  VkExtent2D allocated() const { return allocated_; }  // width and height, or more
 
  private:
   ImageHandle image_;
   DeviceMemory memory_;
   ImageView view_;
   ImageDesc desc_;
+  VkExtent2D allocated_{};
 };
 
 // A single-level 2D colour image.
 Image createImage2D(const Context& context, uint32_t width, uint32_t height, VkFormat format,
                     VkImageUsageFlags usage, const std::string& name);
 
-// Makes the images of a frame pipeline (2D, single level, for storage, sampling and transfers) and
-// readies them in one submission: each moved to VK_IMAGE_LAYOUT_GENERAL, where it stays, and
-// cleared to zero.
+// Makes the images of a frame pipeline (2D, single level, for storage, sampling and transfers;
+// sidesOffPowerOfTwo, so that no viewport compiles shaders anew) and readies them in one
+// submission: each moved to VK_IMAGE_LAYOUT_GENERAL, where it stays, and cleared to zero.
 class ImageBatch {
  public:
   explicit ImageBatch(const Context& context) : context_(context) {}

@@ -14,14 +14,10 @@ Clock::duration msDuration(double ms) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(ms));
 }
 
-// A size times a scale. A scaled side keeps clear of those that make an image a power of two
-// pixels across (at least 33 pixels): the first frame of such a size would wait seconds for the
-// compiler (llvmpipe), and a moving view goes through several sizes.
+// A size times a scale, each side at least 16 pixels.
 Viewport scaledSize(Viewport size, double scale) {
   auto side = [&](uint32_t pixels) {
-    if (scale == 1.0) return pixels;
-    return sideWithoutPowerOfTwoImages(
-        std::max<uint32_t>(16, uint32_t(std::lround(pixels * scale))));
+    return std::max<uint32_t>(16, uint32_t(std::lround(pixels * scale)));
   };
   return {side(size.width), side(size.height)};
 }

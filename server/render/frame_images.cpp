@@ -4,7 +4,6 @@
 #include <shared/frame.h>
 #include <shared/ray_work.h>
 
-#include <bit>
 #include <cstring>
 
 namespace hdof {
@@ -27,20 +26,6 @@ gpu::Image makeTiles(gpu::ImageBatch& batch, uint32_t w, uint32_t h, VkFormat fo
 }
 
 }  // namespace
-
-bool sideMakesPowerOfTwoImage(uint32_t side) {
-  for (uint32_t divisor : {1u, 2u, gpu::kDofTileSize})
-    if (std::has_single_bit(divideRoundingUp(side, divisor))) return true;
-  return false;
-}
-
-uint32_t sideWithoutPowerOfTwoImages(uint32_t side) {
-  // A side of more than 2 * kDofTileSize pixels has one within kDofTileSize of it.
-  for (uint32_t offset = 0;; ++offset) {
-    if (offset < side && !sideMakesPowerOfTwoImage(side - offset)) return side - offset;
-    if (!sideMakesPowerOfTwoImage(side + offset)) return side + offset;
-  }
-}
 
 GBufferImages::GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w,
                              uint32_t h)

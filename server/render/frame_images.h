@@ -11,14 +11,6 @@
 
 namespace hdof {
 
-// Whether a frame `side` pixels across makes an image with a power of two pixels on that side, at
-// full, half or tile resolution. llvmpipe compiles a shader again for such images (its code
-// for them differs); the first frame that binds one waits seconds for the compiler.
-bool sideMakesPowerOfTwoImage(uint32_t side);
-// The side nearest `side` (the smaller of two as near) that makes no such image: for frame sizes
-// the daemon chooses (a scaled frame), so that a new size never waits for the compiler.
-uint32_t sideWithoutPowerOfTwoImages(uint32_t side);
-
 // The G-buffer (gbuffer_pass.h): the raster's visibility and its shaded resolve.
 struct GBufferImages {
   GBufferImages(gpu::ImageBatch& batch, const gpu::Context& context, uint32_t w, uint32_t h);

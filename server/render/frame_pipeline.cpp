@@ -310,10 +310,9 @@ ImageRgba8 FramePipeline::image() const {
 }
 
 void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene) {
-  // No image with a side that is a power of two, as few viewports make and no scaled frame does
-  // (a warm-up at 64x36 left every 320x180 session's first frame to compile).
-  const uint32_t kWidth = sideWithoutPowerOfTwoImages(66),
-                 kHeight = sideWithoutPowerOfTwoImages(38);
+  // Any size does: no frame image has a side that is a power of two, for which llvmpipe would
+  // compile a shader again (gpu::ImageDesc::sidesOffPowerOfTwo).
+  constexpr uint32_t kWidth = 66, kHeight = 38;
   FramePipeline pipeline(context, scene, gpuScene, kWidth, kHeight);
   FrameRequest request;
   request.settings.width = kWidth;

@@ -61,6 +61,9 @@ int searchRadius(float dilatedDiameter) {
 }
 
 // The dilated tile (x: largest |CoC|, y: nearest CoC) of a half-resolution pixel.
+// The tiles across and down the frame, as the tile images hold them (see halfImageSize).
+ivec2 tileCount() { return (ivec2(frame.imageSize) + int(kDofTileSize) - 1) / int(kDofTileSize); }
+
 ivec2 tileOfHalfResPixel(ivec2 pixel) { return pixel / int(kDofTileSize / 2u); }
 
 #endif

@@ -36,7 +36,7 @@ struct CompositeQuad {
 
 // This invocation's quad, in its workgroup's tile of `list` (dof_tile_lists.comp).
 ivec2 listedQuad(uint list) {
-  ivec2 count = imageSize(dilatedTiles);
+  ivec2 count = tileCount();
   uint entry = lists.entries[list * uint(count.x * count.y) + gl_WorkGroupID.x];
   ivec2 tile = ivec2(entry & 0xffffu, entry >> 16u);
   return tile * int(kDofTileSize / 2u) + ivec2(gl_LocalInvocationID.xy);
@@ -59,7 +59,7 @@ CompositeQuad loadQuad(ivec2 quad, bool layers) {
   }
   q.withNear = layers && imageLoad(dilatedTiles, q.first / int(kDofTileSize)).y <= -kDofFocusZone;
   SKIPPABLE_IF(q.anyBlur || q.withNear) {
-    ivec2 halfLast = imageSize(farLayer) - 1;
+    ivec2 halfLast = halfImageSize() - 1;
     [[unroll]] for (int j = 0; j < 9; ++j) {
       ivec2 source = clamp(quad + ivec2(j % 3 - 1, j / 3 - 1), ivec2(0), halfLast);
       q.far[j] = imageLoad(farLayer, source);

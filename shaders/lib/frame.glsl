@@ -11,6 +11,10 @@ float pixelAngle() { return 2.0 * frame.tanHalfFovY / float(frame.imageSize.y); 
 
 float apertureRadius() { return 0.5 * frame.apertureDiameter; }
 
+// The size of the steps' half-resolution images: half the frame's, rounded up. Sizes come from the
+// frame, not from imageSize(), which may hold unused texels (gpu::ImageDesc::sidesOffPowerOfTwo).
+ivec2 halfImageSize() { return (ivec2(frame.imageSize) + 1) / 2; }
+
 // The signed circle of confusion, in pixels, of a point at linear view depth z (metres):
 // negative in the near field.
 float pixelCoc(float z) {

@@ -1,7 +1,14 @@
-// The raster and the ray tracer agree, and the reference converges.
+// The raster and the ray tracer agree, the reference converges, and a frame's images make no
+// driver compile its shaders anew.
+#include "render/frame_images.h"
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
+
+#include <shared/dof.h>
+
+#include <bit>
+#include <utility>
 
 namespace hdof::test {
 namespace {
@@ -36,6 +43,24 @@ void expectRasterMatchesRayTrace(const std::string& scene, const std::string& ca
     hi = std::max(hi, a.pixels[i + 1]);
   }
   EXPECT_GT(hi - lo, 100) << "the image is nearly uniform";
+}
+
+// A frame's images have no side that is a power of two, whatever the viewport: llvmpipe would
+// compile every shader that binds one again (seconds on the render thread). Sides that would be
+// are allocated longer; the steps use the frame's size, not the allocation's.
+TEST(Render, FrameImagesKeepClearOfPowerOfTwoSides) {
+  for (auto [width, height] : {std::pair{1015u, 700u}, {128u, 72u}, {250u, 140u}, {33u, 2u}}) {
+    FrameImages images(testContext(), width, height);
+    for (const gpu::Image* image :
+         {&images.gbuffer.color, &images.gbuffer.multisampledVisibility, &images.dof.halfColorCoc,
+          &images.dof.tiles, &images.mask.farTiles, &images.hybrid.variance, &images.display}) {
+      EXPECT_FALSE(std::has_single_bit(image->allocated().width)) << width << "x" << height;
+      EXPECT_FALSE(std::has_single_bit(image->allocated().height)) << width << "x" << height;
+      EXPECT_LE(image->allocated().width, image->width() + 2);
+    }
+    EXPECT_EQ(images.dof.tiles.width(), (width + gpu::kDofTileSize - 1) / gpu::kDofTileSize);
+    EXPECT_EQ(images.display.width(), width) << "what copies and dispatches cover";
+  }
 }
 
 TEST(Render, RasterMatchesPinholeRayTraceOnBuiltinScene) {

@@ -4,8 +4,6 @@
 // the focus pull.
 #include "net/session_state.h"
 
-#include <shared/dof.h>
-
 #include <gtest/gtest.h>
 
 namespace hdof::net {
@@ -253,15 +251,15 @@ TEST(SessionState, AMovingViewRendersAtTheScaleThatHoldsTargetFps) {
   s.apply(camera(2, 1.0f), kStart + 10ms);
   FramePlan moving = s.startFrame(kStart + 10ms, noFocus);
   EXPECT_EQ(moving.request.settings.width, 100u) << "half the side: a quarter of the time";
-  EXPECT_EQ(moving.request.settings.height, 48u) << "50 rows make 4 rows of tiles";
+  EXPECT_EQ(moving.request.settings.height, 50u);
   EXPECT_EQ(moving.renderScale, 0.5f);
   s.frameRendered(10000.0);  // much slower now
   sentAndAcked(s, 2, kStart);
 
   s.apply(camera(3, 2.0f), kStart + 20ms);
   FramePlan slower = s.startFrame(kStart + 20ms, noFocus);
-  EXPECT_EQ(slower.renderScale, 0.24f) << "never below a quarter (of 50 columns, 48)";
-  EXPECT_EQ(slower.request.settings.width, 48u);
+  EXPECT_EQ(slower.renderScale, 0.25f) << "never below a quarter";
+  EXPECT_EQ(slower.request.settings.width, 50u);
   sentAndAcked(s, 3, kStart);
 
   ASSERT_TRUE(s.nextFrameDue()) << "the view comes to rest";
@@ -323,53 +321,8 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
   // 120 ms at full size: 5/8 would fit 50 ms (47 ms), not 40.
   EXPECT_EQ(moveFor(12, 0.006), 0.5f) << "no step up without room to spare";
   // 80 ms: 5/8 takes 31 ms.
-  EXPECT_EQ(moveFor(12, 0.004), 0.645f) << "5/8: 129 columns, where 125 make 8 tiles";
-  EXPECT_EQ(moveFor(12, 0.02), 0.24f) << "down at once";
-}
-
-// A side that makes an image (full, half or tile resolution) a power of two pixels across moves to
-// the nearest one that makes none: llvmpipe compiles its shaders again for such images.
-TEST(SessionState, SidesWithoutPowerOfTwoImages) {
-  EXPECT_TRUE(sideMakesPowerOfTwoImage(512));
-  EXPECT_TRUE(sideMakesPowerOfTwoImage(255)) << "128 at half resolution";
-  EXPECT_TRUE(sideMakesPowerOfTwoImage(250)) << "16 tiles";
-  EXPECT_FALSE(sideMakesPowerOfTwoImage(1008));
-  EXPECT_EQ(sideWithoutPowerOfTwoImages(250), 257u) << "240 lies further away";
-  EXPECT_EQ(sideWithoutPowerOfTwoImages(16), 33u);
-  for (uint32_t side = 1; side <= 4096; ++side) {
-    uint32_t moved = sideWithoutPowerOfTwoImages(side);
-    ASSERT_FALSE(sideMakesPowerOfTwoImage(moved)) << side;
-    if (!sideMakesPowerOfTwoImage(side)) {
-      ASSERT_EQ(moved, side);
-    }
-    uint32_t distance = moved > side ? moved - side : side - moved;
-    if (side > 2 * gpu::kDofTileSize) {
-      ASSERT_LE(distance, gpu::kDofTileSize) << side;
-    }
-    if (moved > side && side > distance) {
-      ASSERT_TRUE(sideMakesPowerOfTwoImage(side - distance)) << "the smaller of two as near";
-    }
-  }
-}
-
-// Every size a moving view renders at keeps clear of them, whatever the viewport and the scale.
-TEST(SessionState, ScaledFramesMakeNoPowerOfTwoImage) {
-  SessionDefaults d = defaults(RenderMode::Hybrid);
-  d.targetFps = 20.0;
-  for (uint32_t width = 200; width <= 2100; width += 37) {
-    SessionState s(d, {width, width * 5 / 8});
-    uint32_t frame = 0;
-    for (double msPerPixel : {0.0004, 0.0002, 0.0001, 0.00005, 0.00003, 1.0}) {
-      for (int i = 0; i < 3; ++i) {
-        auto at = kStart + std::chrono::milliseconds(10 * ++frame);
-        s.apply(camera(frame, float(frame)), at);
-        FramePlan plan = frameTaking(s, frame, at, msPerPixel);
-        if (!plan.moving || plan.renderScale == 1.0f) continue;
-        EXPECT_FALSE(sideMakesPowerOfTwoImage(plan.request.settings.width)) << width;
-        EXPECT_FALSE(sideMakesPowerOfTwoImage(plan.request.settings.height)) << width;
-      }
-    }
-  }
+  EXPECT_EQ(moveFor(12, 0.004), 0.625f);
+  EXPECT_EQ(moveFor(12, 0.02), 0.25f) << "down at once";
 }
 
 // A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
@@ -433,7 +386,7 @@ TEST(SessionState, TheFirstLensChangeIsScaledByARestingFrame) {
     s.apply(lens, kStart + 10ms);
     FramePlan pulled = s.startFrame(kStart + 10ms, noFocus);
     ASSERT_TRUE(pulled.lensOnly);
-    EXPECT_EQ(pulled.renderScale, drewRaster ? 1.0f : 0.24f) << drewRaster;
+    EXPECT_EQ(pulled.renderScale, drewRaster ? 1.0f : 0.25f) << drewRaster;
   }
 }
 
@@ -455,7 +408,7 @@ TEST(SessionState, ResolutionScaleAndModeChange) {
   settings.resolutionScale = 0.5f;
   s.apply(settings, kStart);
   EXPECT_EQ(s.renderSize().width, 100u);
-  EXPECT_EQ(s.renderSize().height, 48u);
+  EXPECT_EQ(s.renderSize().height, 50u);
   s.apply(ModeMessage{4, RenderMode::Hybrid, DebugView::Mask}, kStart);
   FramePlan plan = s.startFrame(kStart, noFocus);
   EXPECT_TRUE(plan.resetHistory);
