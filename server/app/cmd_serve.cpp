@@ -235,7 +235,13 @@ int runServe(std::span<const std::string> args) {
   LoadedScene loaded = loadSceneWithBvh(sceneOptions);
   gpu::Context context(contextOptions(sceneOptions));
   GpuScene gpuScene(context, loaded.scene, loaded.bvh);
-  // Before listening: the first session's frames do not wait for a pipeline to compile.
+  // Before listening: the first session's frames do not wait for a pipeline to compile. Said
+  // first, so that a start-up does not look hung: on lavapipe (two cores) with Mesa's shader
+  // cache empty it took 13-19 s, with the cache 2 s.
+  net::logEvent("pipelines_warming",
+                "device=" + net::logValue(context.deviceName()) + " note=" +
+                    net::logValue("every mode's pipelines run once before the daemon listens "
+                                  "(up to a minute on a CPU device with an empty shader cache)"));
   auto warmUpStart = std::chrono::steady_clock::now();
   warmUpPipelines(context, loaded.scene, gpuScene);
   char warmUpS[32];

@@ -110,8 +110,10 @@ TEST(Serve, HelloGetsWelcomeAndAJpegFrameOfTheViewport) {
   EXPECT_NEAR(frame->stats["fov_y_deg"].get<double>(), cameraFov, 1e-3);
   // Every pipeline ran once before the daemon listened.
   std::string log = daemon.log();
+  size_t warming = log.find("event=pipelines_warming");
   size_t ready = log.find("event=pipelines_ready");
   ASSERT_NE(ready, std::string::npos) << log;
+  EXPECT_LT(warming, ready) << "said before it starts: " << log;
   EXPECT_LT(ready, log.find("event=listening")) << log;
 }
 
