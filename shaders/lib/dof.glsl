@@ -60,10 +60,10 @@ int searchRadius(float dilatedDiameter) {
   return min(int(ceil(0.5 * dilatedDiameter)), kDofTileReach * int(kDofTileSize));
 }
 
-// The dilated tile (x: largest |CoC|, y: nearest CoC) of a half-resolution pixel.
 // The tiles across and down the frame, as the tile images hold them (see halfImageSize).
 ivec2 tileCount() { return (ivec2(frame.imageSize) + int(kDofTileSize) - 1) / int(kDofTileSize); }
 
+// The dilated tile (x: largest |CoC|, y: nearest CoC) of a half-resolution pixel.
 ivec2 tileOfHalfResPixel(ivec2 pixel) { return pixel / int(kDofTileSize / 2u); }
 
 #endif
