@@ -1,5 +1,6 @@
 #include "render/frame_pipeline.h"
 
+#include <malloc.h>
 #include <algorithm>
 #include <chrono>
 #include <cstring>
@@ -338,6 +339,13 @@ void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuS
     request.lens.focusDistance *= 2.0f;
     pipeline.render(request);
   }
+}
+
+void keepFreedMemoryForFrames() {
+#ifdef __GLIBC__
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+#endif
 }
 
 }  // namespace hdof
