@@ -162,8 +162,8 @@ class FramePipeline {
 void warmUpPipelines(const gpu::Context& context, const Scene& scene, const GpuScene& gpuScene);
 
 // Makes this process keep the memory it frees for its next frames (call once, before rendering).
-// Every frame the Vulkan driver allocates and frees about the same memory (a CPU device bins the
-// G-buffer draw's triangles into tens of MB of 64 kB blocks). By default glibc gives a freed heap
+// Every frame the Vulkan driver allocates and frees about the same memory (lavapipe bins the
+// G-buffer draw's triangles in 64 kB blocks, 10-25 MB a frame). By default glibc gives a freed heap
 // top over 128 kB back to the kernel and maps each block over 128 kB afresh, so the next frame
 // faults those pages in again: with lavapipe, one hybrid frame in three to five at 254x175 took
 // 120-160 ms instead of 30-40. Kept: up to 1 GB free at a heap's top, and blocks up to 32 MB (the
