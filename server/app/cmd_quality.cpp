@@ -44,6 +44,7 @@ struct BudgetRow {
   uint32_t budgetMs, frames;
   double elapsedMs;
   QualityScores scores;
+  std::string file;  // its last frame, in the output folder
 };
 
 constexpr uint32_t kMaxBudgetMs = 60000;
@@ -112,12 +113,14 @@ uint32_t raysOf(RenderMode mode, uint32_t rays) {
 
 // Each mode renders the still view frame after frame from a fresh start (no history, a new
 // accumulation) until `budget` ms of wall-clock time (FramePipeline::render plus the readback of
-// the image, steady clock) have passed; its last frame is compared with the reference. The
-// pipelines have run before (warmUpPipelines), so that no first-use cost is timed.
+// the image, steady clock) have passed; its last frame is compared with the reference and
+// written to `outDir` (MODE-BUDGETms.png). The pipelines have run before (warmUpPipelines), so
+// that no first-use cost is timed.
 std::vector<BudgetRow> measureBudgets(FramePipeline& pipeline, FrameRequest request,
                                       const std::vector<RenderMode>& modes, uint32_t rays,
                                       const std::vector<uint32_t>& budgets,
-                                      const ImageRgba8& reference, const QualityRegions& regions) {
+                                      const ImageRgba8& reference, const QualityRegions& regions,
+                                      const std::filesystem::path& outDir) {
   using Clock = std::chrono::steady_clock;
   uint64_t total =
       uint64_t(std::accumulate(budgets.begin(), budgets.end(), uint64_t(0))) * modes.size();
@@ -143,8 +146,10 @@ std::vector<BudgetRow> measureBudgets(FramePipeline& pipeline, FrameRequest requ
         progress.update(done + uint64_t(std::min(elapsedMs, double(budget))));
       }
       done += budget;
+      std::string file = std::string(modeName(mode)) + "-" + std::to_string(budget) + "ms.png";
+      writeImage((outDir / file).string(), image);
       rows.push_back({mode, raysOf(mode, rays), budget, frames, elapsedMs,
-                      scoreImage(image, reference, regions)});
+                      scoreImage(image, reference, regions), file});
     }
   }
   return rows;
@@ -175,10 +180,10 @@ int runQuality(std::span<const std::string> args) {
       "  hdof quality --scene assets/scenes/living-room/living-room.gltf --camera closeup \\\n"
       "    --focus-distance 2.4 --f-number 1.4 --focal-length 50\n"
       "With --budget-ms, each mode also gets each budget of wall-clock time on this machine from\n"
-      "a fresh start, and its last frame is compared (equal time). With --camera-path, the modes\n"
-      "render the path's frames in motion instead, and are compared at four of them with\n"
-      "references of those views (256 rays per pixel unless --reference-spp); a path of one\n"
-      "keyframe is a still view, measured as a --camera is.");
+      "a fresh start, and its last frame is compared and written (MODE-BUDGETms.png). With\n"
+      "--camera-path, the modes render the path's frames in motion instead, and are compared at\n"
+      "four of them with references of those views (256 rays per pixel unless --reference-spp);\n"
+      "a path of one keyframe is a still view, measured as a --camera is.");
   addSceneOptions(parser, sceneOptions);
   addLensOptions(parser, lensOptions);
   parser.option("--size", "WxH", "image size (default 640x360)", &size);
@@ -348,8 +353,8 @@ int runQuality(std::span<const std::string> args) {
   request.settings.frameIndex = 0;
   std::vector<BudgetRow> budgetRows;
   if (!budgets.empty())
-    budgetRows =
-        measureBudgets(pipeline, request, modeList, rays, budgets, reference.image, regions);
+    budgetRows = measureBudgets(pipeline, request, modeList, rays, budgets, reference.image,
+                                regions, outDir);
 
   if (json) {
     nlohmann::json out;
@@ -386,6 +391,7 @@ int runQuality(std::span<const std::string> args) {
                               {"frames", b.frames},
                               {"elapsed_ms", b.elapsedMs}};
         addScores(row, b.scores);
+        row["image"] = outPath(b.file);
         out["budgets"].push_back(row);
       }
     }

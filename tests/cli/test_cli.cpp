@@ -164,7 +164,8 @@ TEST(Cli, BadBudgetIsAOneLineError) {
   expectUsageError("quality --budget-ms 250 --camera-path " + kExamplePath, "--camera-path");
 }
 
-// Equal time on a small image: one line per mode and budget, and both region masks written.
+// Equal time on a small image: one line per mode and budget, both region masks and each budget's
+// last frame written.
 TEST(Cli, QualityEqualTimeBudgets) {
   auto out = tempDir() / "quality-budget";
   Result r = runHdof(
@@ -183,6 +184,8 @@ TEST(Cli, QualityEqualTimeBudgets) {
   EXPECT_NE(r.stdoutText.find("psnr_edge_db="), std::string::npos) << r.stdoutText;
   EXPECT_TRUE(std::filesystem::exists(out / "edge-mask.png"));
   EXPECT_TRUE(std::filesystem::exists(out / "occlusion-mask.png"));
+  for (const char* file : {"postprocess-50ms.png", "hybrid-80ms.png"})
+    EXPECT_EQ(hdof::readImage((out / file).string()).width, 96u) << file;
   hdof::ImageRgba8 mask = hdof::readImage((out / "edge-mask.png").string());
   EXPECT_EQ(mask.width, 96u);
   EXPECT_EQ(mask.height, 54u);
