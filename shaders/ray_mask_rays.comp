@@ -1,21 +1,21 @@
 // Ray mask (stage 3), spread along columns and ray counts: a pixel is within an edge's disc when a
 // pixel of its column reaches it (see ray_mask_spread.comp), or when its tile is one that a disc
 // wider than the tile dilation reaches (ray_mask_far.comp; the sharper side of such an edge taken
-// to be the pixel's own CoC). Rays where an edge needs them or where
-// the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as many as
-// the strongest edge asks for while the pixel is new to the mask, then as many as the variance of
-// its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their history to
-// go on). Rays by CoC: where every edge that reaches the pixel is blurred on both sides, what its
-// rays see varies slowly across the image, and the spatial reconstruction fills in from the
-// neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc,
-// in motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera
-// and lens have rested kStillRasterFrames frames, a settled pixel's rays follow its variance alone,
-// so that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
-// Then the tile's pixels with rays are appended to the work list together (one atomic per
-// workgroup and counter; a ballot gives each lane its slot among its subgroup's), so that the
-// tracer's subgroups, which take consecutive entries, trace neighbouring pixels: measured 6% faster
-// than one atomic per subgroup, whose tiles interleave in the list as the device's threads run
-// them side by side.
+// to be the pixel's own CoC). Rays where an edge needs them or where the ray-traced output is
+// noisy, at least 1 and at most the frame's samples per pixel: as many as the strongest edge asks
+// for while the pixel is new to the mask, then as many as the variance of its rays asks for
+// (settled, quiet pixels keep a ray or two a frame, enough for their history to go on; on a still
+// view out of focus, a pixel counts as noisy as its noisiest settled neighbour). Rays by CoC: where every edge
+// that reaches the pixel is blurred on both sides, what its rays see varies slowly across the
+// image, and the spatial reconstruction fills in from the neighbours: the rays fall with the area
+// of the sharper side's blur beyond kRayMaskDenseCoc, in motion (of the camera or the lens: a focus
+// pull) and over a view's first frames; once camera and lens have rested kStillRasterFrames frames,
+// a settled pixel's rays follow its variance alone, so that a resting view keeps converging as
+// fast, and a pixel the composite trusts gets them all. Then the tile's pixels with rays are
+// appended to the work list together (one atomic per workgroup and counter; a ballot gives each
+// lane its slot among its subgroup's), so that the tracer's subgroups, which take consecutive
+// entries, trace neighbouring pixels: measured 6% faster than one atomic per subgroup, whose tiles
+// interleave in the list as the device's threads run them side by side.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -61,8 +61,22 @@ uint rayCount(ivec2 pixel, ivec2 size) {
     strongest = 1.0;
     sharpest = min(sharpest, abs(signedCoc(imageLoad(normalDepth, pixel).w)));
   }
-  vec2 history = texelFetch(variance, min(pixel, textureSize(variance, 0) - 1), 0).rg;
+  ivec2 last = textureSize(variance, 0) - 1;
+  vec2 history = texelFetch(variance, min(pixel, last), 0).rg;
   float noise = history.x;
+  // On a still view a settled pixel out of focus is as noisy as its noisiest settled neighbour:
+  // beside a bright light's blur a pixel whose few rays have not met the light yet reads no
+  // variance at all, and would keep one ray a frame while its traced colour, missing the light, is
+  // handed over to. (In motion the history is short anyway: measured, the rays cost 5% of the
+  // frame rate for no gain.)
+  if (frame.stillFrames > 0u && noise > 0.0 && noise < kRayMaskVarianceNew &&
+      abs(signedCoc(imageLoad(normalDepth, pixel).w)) >= kDofFocusZone) {
+    for (int i = 0; i < 9; ++i) {
+      ivec2 neighbour = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), last);
+      float other = texelFetch(variance, neighbour, 0).x;
+      if (other < kRayMaskVarianceNew) noise = max(noise, other);
+    }
+  }
   // New to the mask (no variance yet, or too little history for one): as the edge asks; then
   // as the variance of the pixel's rays asks.
   bool settled = noise > 0.0 && noise < kRayMaskVarianceNew;

@@ -1,7 +1,8 @@
-// The adaptive ray mask: nothing on an in-focus wall; on the depth-of-field scene, rays along the
-// blurred foreground's silhouettes only, fewer as the aperture closes, fewer per pixel where both
-// sides of an edge are blurred (rays by CoC); the work list holds
-// exactly the pixels with rays, with dispatch arguments for them.
+// The adaptive ray mask: nothing on an in-focus wall; rays by the variance of a pixel's rays, out
+// of focus by its noisiest neighbour's too; on the depth-of-field scene, rays along the blurred
+// foreground's silhouettes only, fewer as the aperture closes, fewer per pixel where both sides of
+// an edge are blurred (rays by CoC); the work list holds exactly the pixels with rays, with
+// dispatch arguments for them.
 #include "render/gbuffer_pass.h"
 #include "render/ray_mask.h"
 #include "render_fixture.h"
@@ -193,6 +194,49 @@ TEST(RayMask, NoisyPixelsGetRaysByTheirVarianceAndTrustedOnesAllAtRest) {
   setVariance(gpu::kHybridTrustedRays - 1.0f);
   RayMaskRig::Frame untrusted = rig.render(lens, &variance, 1, gpu::kStillRasterFrames);
   for (uint8_t rays : untrusted.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
+}
+
+// On a still view out of focus, a settled pixel counts as noisy as its noisiest settled neighbour:
+// beside a light's blur, rays that have not met the light yet read no variance. In focus, and in
+// motion, its own variance counts.
+TEST(RayMask, BlurredPixelsBesideANoisyOneGetItsRays) {
+  constexpr uint32_t kW = 64, kH = 48;
+  constexpr glm::ivec2 kNoisy{20, 20};
+  RayMaskRig rig("builtin:wall", kW, kH);
+  gpu::ImageBatch batch(testContext());
+  gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32G32_SFLOAT, "test variance");
+  batch.finish();
+  // Every pixel settled (8 rays) and quiet, below the variance that turns rays on; one noisy.
+  gpu::Buffer upload(testContext(), VkDeviceSize(kW) * kH * sizeof(glm::vec2),
+                     VK_BUFFER_USAGE_TRANSFER_SRC_BIT, gpu::MemoryUse::Upload, "test upload");
+  auto* texels = static_cast<glm::vec2*>(upload.mapped());
+  std::fill(texels, texels + kW * kH, glm::vec2(0.5f * gpu::kRayMaskVarianceOn, 8.0f));
+  texels[kNoisy.y * kW + kNoisy.x] = glm::vec2(gpu::kRayMaskVarianceFull, 8.0f);
+  testContext().submitAndWait([&](VkCommandBuffer cmd) {
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {kW, kH, 1};
+    vkCmdCopyBufferToImage(cmd, upload.get(), variance.get(), VK_IMAGE_LAYOUT_GENERAL, 1, &region);
+  });
+  auto raysAt = [&](const RayMaskRig::Frame& frame, glm::ivec2 p) {
+    return frame.rays[p.y * kW + p.x];
+  };
+
+  // The wall is 3 m away: focused at 0.5 m it is a blur of about 6 px.
+  const Lens blurring{50.0f, 1.4f, 0.5f};
+  RayMaskRig::Frame blurred = rig.render(blurring, &variance, 0, 1);
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      EXPECT_EQ(raysAt(blurred, kNoisy + glm::ivec2(dx, dy)), kSamplesPerPixel) << dx << ", " << dy;
+  EXPECT_EQ(pixelsWithRays(blurred), 9u);
+  expectListMatchesMask(blurred, kW);
+
+  RayMaskRig::Frame moving = rig.render(blurring, &variance, 0, 0);
+  EXPECT_EQ(raysAt(moving, kNoisy), kSamplesPerPixel);
+  EXPECT_EQ(pixelsWithRays(moving), 1u);
+  RayMaskRig::Frame sharp = rig.render(Lens{50.0f, 1.4f, 3.0f}, &variance, 0, 1);
+  EXPECT_EQ(raysAt(sharp, kNoisy), kSamplesPerPixel);
+  EXPECT_EQ(pixelsWithRays(sharp), 1u);
 }
 
 TEST(RayMask, CoversTheBlurredRailingsSilhouette) {
