@@ -64,12 +64,14 @@ uint rayCount(ivec2 pixel, ivec2 size) {
   ivec2 last = textureSize(variance, 0) - 1;
   vec2 history = texelFetch(variance, min(pixel, last), 0).rg;
   float noise = history.x;
+  // New to the mask: no rays accumulated (a cleared history), or too few for a variance.
+  bool settled = history.y > 0.0 && noise < kRayMaskVarianceNew;
   // On a still view a settled pixel out of focus is as noisy as its noisiest settled neighbour:
   // beside a bright light's blur a pixel whose few rays have not met the light yet reads no
   // variance at all, and would keep one ray a frame while its traced colour, missing the light, is
   // handed over to. (In motion the history is short anyway: measured, the rays cost 5% of the
   // frame rate for no gain.)
-  if (frame.stillFrames > 0u && noise > 0.0 && noise < kRayMaskVarianceNew &&
+  if (frame.stillFrames > 0u && settled &&
       abs(signedCoc(imageLoad(normalDepth, pixel).w)) >= kDofFocusZone) {
     for (int i = 0; i < 9; ++i) {
       ivec2 neighbour = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), last);
@@ -77,14 +79,14 @@ uint rayCount(ivec2 pixel, ivec2 size) {
       if (other < kRayMaskVarianceNew) noise = max(noise, other);
     }
   }
-  // New to the mask (no variance yet, or too little history for one): as the edge asks; then
-  // as the variance of the pixel's rays asks.
-  bool settled = noise > 0.0 && noise < kRayMaskVarianceNew;
-  float need = settled ? saturate(noise / kRayMaskVarianceFull) : strongest;
+  // New to the mask, or without any variance yet (a few rays that all saw the same colour say
+  // little): as the edge asks; then as the variance of the pixel's rays asks.
+  bool measured = settled && noise > 0.0;
+  float need = measured ? saturate(noise / kRayMaskVarianceFull) : strongest;
   uint samples = clamp(frame.samplesPerPixel, 1u, 255u);  // what r8ui holds
   uint count = 0u;
   bool resting = frame.stillFrames >= kStillRasterFrames;
-  float density = nearEdge && !(settled && resting)
+  float density = nearEdge && !(measured && resting)
                       ? min(1.0, pow(kRayMaskDenseCoc / max(sharpest, 1.0), 2.0))
                       : 1.0;
   if (nearEdge || noise >= kRayMaskVarianceOn)

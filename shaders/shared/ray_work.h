@@ -56,8 +56,11 @@ HDOF_CONST float kRayMaskSilhouetteReach = 8.0;
 // pixel gets rays without an edge, and at which it gets the full sample count.
 HDOF_CONST float kRayMaskVarianceOn = 0.001;
 HDOF_CONST float kRayMaskVarianceFull = 0.005;
-// What the variance reports for a pixel with too little history to estimate it (full rays).
-HDOF_CONST float kRayMaskVarianceNew = 1.0;
+// What the variance reports for a pixel with too little history to estimate it (full rays):
+// beyond any variance a ray's luminance has (a ray that meets a light of luminance 200 half the
+// time has 10^4), so that a pixel beside a bright light counts as settled and noisy; near the
+// largest half float.
+HDOF_CONST float kRayMaskVarianceNew = 60000.0;
 // Rays a pixel has accumulated from which the hybrid composite shows its traced colour alone
 // (hybrid_composite.comp); on a resting view, the ray mask gives such pixels the full rays.
 HDOF_CONST float kHybridTrustedRays = 48.0;

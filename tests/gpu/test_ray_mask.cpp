@@ -206,12 +206,13 @@ TEST(RayMask, BlurredPixelsBesideANoisyOneGetItsRays) {
   gpu::ImageBatch batch(testContext());
   gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32G32_SFLOAT, "test variance");
   batch.finish();
-  // Every pixel settled (8 rays) and quiet, below the variance that turns rays on; one noisy.
+  // Every pixel settled (8 rays) with no variance at all (its rays all saw the same colour); one
+  // whose rays met a light of luminance 30 half the time.
   gpu::Buffer upload(testContext(), VkDeviceSize(kW) * kH * sizeof(glm::vec2),
                      VK_BUFFER_USAGE_TRANSFER_SRC_BIT, gpu::MemoryUse::Upload, "test upload");
   auto* texels = static_cast<glm::vec2*>(upload.mapped());
-  std::fill(texels, texels + kW * kH, glm::vec2(0.5f * gpu::kRayMaskVarianceOn, 8.0f));
-  texels[kNoisy.y * kW + kNoisy.x] = glm::vec2(gpu::kRayMaskVarianceFull, 8.0f);
+  std::fill(texels, texels + kW * kH, glm::vec2(0.0f, 8.0f));
+  texels[kNoisy.y * kW + kNoisy.x] = glm::vec2(0.25f * 30.0f * 30.0f, 8.0f);
   testContext().submitAndWait([&](VkCommandBuffer cmd) {
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
