@@ -4,11 +4,22 @@
 #include "render/frame_pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <string>
 #include <vector>
 
 namespace hdof {
 namespace {
+
+// Milliseconds to three significant digits or more: a GPU's frames take a millisecond or two
+// and its passes hundredths of one, which a fixed decimal or two would print as 1.3 or 0.01.
+std::string msText(double ms) {
+  int decimals = ms > 0.0 ? std::clamp(2 - int(std::floor(std::log10(ms))), 1, 6) : 1;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", decimals, ms);
+  return text;
+}
 
 // Each pass's times over several frames, in the order the passes first ran.
 class PassTimes {
@@ -35,7 +46,7 @@ class PassTimes {
         std::snprintf(entry, sizeof entry, "%s\"%s\":%.3f", out.empty() ? "" : ",", pass.c_str(),
                       median(times));
       else
-        std::snprintf(entry, sizeof entry, " %s=%.2f", pass.c_str(), median(times));
+        std::snprintf(entry, sizeof entry, " %s=%s", pass.c_str(), msText(median(times)).c_str());
       out += entry;
     }
     return out;
@@ -291,36 +302,36 @@ int runBench(std::span<const std::string> args) {
               gbufferMs, visibilityMs, resolveMs, frames);
   std::printf("postprocess_dof_ms=%.2f postprocess_frame_wall_ms=%.2f (medians)\n", postProcessMs,
               postProcessFrameWallMs);
+  std::printf("reference_ms=%s reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
+              msText(referenceMs).c_str(), mraysPerSecond, frames);
   std::printf(
-      "reference_ms=%.1f reference_mrays_per_s=%.2f (1 ray per pixel, median of %u frames)\n",
-      referenceMs, mraysPerSecond, frames);
-  std::printf(
-      "frame_ms at %u rays per pixel: postprocess=%.1f hybrid=%.1f raytrace=%.1f "
+      "frame_ms at %u rays per pixel: postprocess=%s hybrid=%s raytrace=%s "
       "(hybrid/postprocess %.2fx, hybrid/raytrace %.2fx, mask coverage %.3f; wall clock, "
       "medians of %u)\n",
-      comparisonRays, postProcessFrameMs, hybridFrameMs, rayTraceFrameMs,
-      hybridFrameMs / postProcessFrameMs, hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
+      comparisonRays, msText(postProcessFrameMs).c_str(), msText(hybridFrameMs).c_str(),
+      msText(rayTraceFrameMs).c_str(), hybridFrameMs / postProcessFrameMs,
+      hybridFrameMs / rayTraceFrameMs, maskCoverage, frames);
   std::printf(
-      "frame_gpu_ms: postprocess=%.1f hybrid=%.1f raytrace=%.1f (the passes' timestamps added "
-      "up)\n",
-      postProcessGpuMs, hybridGpuMs, rayTraceGpuMs);
+      "frame_gpu_ms: postprocess=%s hybrid=%s raytrace=%s (the passes' timestamps added up)\n",
+      msText(postProcessGpuMs).c_str(), msText(hybridGpuMs).c_str(), msText(rayTraceGpuMs).c_str());
   std::printf(
-      "focus_pull_frame_ms: postprocess=%.1f hybrid=%.1f (lens-only frames on a settled still "
+      "focus_pull_frame_ms: postprocess=%s hybrid=%s (lens-only frames on a settled still "
       "view; wall clock, medians of %u)\n",
-      postProcessFocusPullMs, hybridFocusPullMs, frames);
+      msText(postProcessFocusPullMs).c_str(), msText(hybridFocusPullMs).c_str(), frames);
   std::printf(
-      "cut_frame_ms: postprocess=%.1f hybrid=%.1f (the first frame of a view, without history; "
+      "cut_frame_ms: postprocess=%s hybrid=%s (the first frame of a view, without history; "
       "wall clock, medians of %u)\n",
-      postProcessCutMs, hybridCutMs, frames);
+      msText(postProcessCutMs).c_str(), msText(hybridCutMs).c_str(), frames);
   std::printf(
-      "multisampled_frame_ms: postprocess=%.1f hybrid=%.1f (a still view's second frame, %u "
+      "multisampled_frame_ms: postprocess=%s hybrid=%s (a still view's second frame, %u "
       "raster samples per pixel; wall clock, medians of %u)\n",
-      postProcessMultisampledMs, hybridMultisampledMs, gpu::kStillRasterSamples, frames);
+      msText(postProcessMultisampledMs).c_str(), msText(hybridMultisampledMs).c_str(),
+      gpu::kStillRasterSamples, frames);
   std::printf(
-      "rest_frame_ms: hybrid=%.1f (hybrid/raytrace %.2fx, %.0f rays; a view at rest after %u "
+      "rest_frame_ms: hybrid=%s (hybrid/raytrace %.2fx, %.0f rays; a view at rest after %u "
       "frames, the G-buffer kept; wall clock, medians of %u)\n",
-      hybridRestMs, hybridRestMs / rayTraceFrameMs, median(restRays), gpu::kStillRasterFrames,
-      frames);
+      msText(hybridRestMs).c_str(), hybridRestMs / rayTraceFrameMs, median(restRays),
+      gpu::kStillRasterFrames, frames);
   std::printf("hybrid_rest_passes_ms:%s (medians)\n", restPasses.text(false).c_str());
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
@@ -331,10 +342,11 @@ int runBench(std::span<const std::string> args) {
   std::printf("hybrid_focus_pull_passes_ms:%s (%.0f rays; medians)\n",
               focusPullPasses.text(false).c_str(), median(focusPullRays));
   std::printf(
-      "hybrid_trace: %.1f ms for the mask's rays (%.2f Mrays/s), %.1f ms with every pixel "
+      "hybrid_trace: %s ms for the mask's rays (%.2f Mrays/s), %s ms with every pixel "
       "traced (%.0f rays, %.2f Mrays/s): the mask's share of the work %.2f\n",
-      maskedTraceMs, hybridRays / (maskedTraceMs * 1e3), fullTraceMs, fullRays,
-      fullRays / (fullTraceMs * 1e3), maskedTraceMs / fullTraceMs);
+      msText(maskedTraceMs).c_str(), hybridRays / (maskedTraceMs * 1e3),
+      msText(fullTraceMs).c_str(), fullRays, fullRays / (fullTraceMs * 1e3),
+      maskedTraceMs / fullTraceMs);
   return 0;
 }
 

@@ -85,6 +85,27 @@ TEST(Cli, BadLensInputIsAOneLineError) {
   expectUsageError("render --camera-path " + path.string() + " " + kOut, "focal_length_mm");
 }
 
+// bench prints its times to three significant digits at least: a GPU's passes take hundredths of
+// a millisecond, and a frame one or two.
+TEST(Cli, BenchTimesKeepThreeDigits) {
+  Result r = runHdof("bench --scene builtin:dof --size 16x16 --frames 1");
+  ASSERT_EQ(r.exitCode, 0) << r.stderrText;
+  size_t from = r.stdoutText.find("hybrid_passes_ms:");
+  ASSERT_NE(from, std::string::npos) << r.stdoutText;
+  std::istringstream line(r.stdoutText.substr(from, r.stdoutText.find('\n', from) - from));
+  int figures = 0;
+  for (std::string word; line >> word;) {
+    size_t equals = word.find('=');
+    if (equals == std::string::npos) continue;
+    std::string digits = word.substr(equals + 1);
+    std::erase(digits, '.');
+    digits.erase(0, digits.find_first_not_of('0'));
+    EXPECT_GE(digits.size(), 3u) << word;
+    ++figures;
+  }
+  EXPECT_GT(figures, 10) << r.stdoutText;
+}
+
 // The field of view follows focal length and sensor; without a focal length the scene camera's
 // (builtin:dof: 40 degrees up) is kept. 64x36 is 16:9: 36 x 20.25 mm of a full-frame sensor.
 TEST(Cli, TheLensSetsTheFieldOfView) {
