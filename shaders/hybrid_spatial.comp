@@ -7,8 +7,9 @@
 // young, noisy pixel borrows from its neighbours, a converged one keeps its own colour. The traced
 // colour is already the lens's blur of the scene, so it changes across the CoC: a disc of half the
 // CoC blurred it a second time (a biased edge that more rays never removed), an eighth of it holds
-// a pixel's blur the same while still denoising wide blurs. One thread per pixel of the ray mask's
-// work list.
+// a pixel's blur the same while still denoising wide blurs. While a pixel's history is short, its
+// own CoC is a few rays' chance (youngNearCoc): it gathers at least as far as the near blur its
+// neighbourhood's rays met reaches it. One thread per pixel of the ray mask's work list.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -16,6 +17,7 @@ layout(local_size_x = 64) in;
 #include "lib/frame.glsl"
 #include "lib/sampling.glsl"
 #include "shared/ray_work.h"
+#include "lib/skippable.glsl"
 
 HDOF_RAY_WORK_LIST(1, readonly);
 layout(set = 1, binding = 2, r8ui) uniform readonly uimage2D rays;  // rays traced this frame
@@ -39,6 +41,26 @@ float blendedCoc(ivec2 pixel, float ratio) {
   return mix(abs(coc.y), coc.x, ratio);
 }
 
+// How far a near-field blur reaches a pixel whose history is short: the widest near CoC that the
+// rays of its 3x3 neighbourhood met this frame, times the share of their rays that met the near
+// field. Such a pixel's own hit ratio is a few rays' coin flips: inside a wide near blur, a pixel
+// whose one ray passed the near surface had the background's small CoC, so that it gathered
+// nothing and no neighbour took it in, and the blur came out peppered with single pixels of the
+// background's colour; at the blur's rim, where most rays pass, the share keeps the background
+// sharp.
+float youngNearCoc(ivec2 pixel) {
+  ivec2 last = ivec2(frame.imageSize) - 1;
+  float widest = 0.0, ratioSum = 0.0, traced = 0.0;
+  for (int i = 0; i < 9; ++i) {
+    ivec2 q = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), last);
+    if (imageLoad(rays, q).r == 0u) continue;
+    widest = max(widest, imageLoad(layerCoc, q).x);
+    ratioSum += imageLoad(historyNear, q).a;
+    traced += 1.0;
+  }
+  return widest * ratioSum / max(traced, 1.0);
+}
+
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
@@ -46,8 +68,12 @@ void main() {
   vec4 far = imageLoad(historyFar, pixel);
   float lum = luminance(near.rgb + far.rgb);
   float samples = max(imageLoad(historyMoments, pixel).z, 1.0);
-  float noise = sqrt(clamp(imageLoad(variance, pixel).r, kVarianceMin, kVarianceMax) / samples);
-  float radius = min(kHybridSpatialRadiusOfCoc * blendedCoc(pixel, near.a), kMaxRadius);
+  float rayVariance = imageLoad(variance, pixel).r;
+  float noise = sqrt(clamp(rayVariance, kVarianceMin, kVarianceMax) / samples);
+  float nearReach = 0.0;
+  SKIPPABLE_IF(rayVariance >= kRayMaskVarianceNew) { nearReach = youngNearCoc(pixel); }
+  float radius =
+      min(kHybridSpatialRadiusOfCoc * max(blendedCoc(pixel, near.a), nearReach), kMaxRadius);
 
   vec4 nearSum = near, farSum = far;
   float weightSum = 1.0;
@@ -73,7 +99,7 @@ void main() {
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       if (imageLoad(rays, q).r == 0u) continue;
       vec4 qNear = imageLoad(historyNear, q);
-      if (0.5 * blendedCoc(q, qNear.a) < distance(vec2(q), vec2(pixel))) continue;
+      if (0.5 * max(blendedCoc(q, qNear.a), nearReach) < distance(vec2(q), vec2(pixel))) continue;
       vec4 qFar = imageLoad(historyFar, q);
       pairNear += qNear;
       pairFar += qFar;

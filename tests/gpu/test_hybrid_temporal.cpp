@@ -194,28 +194,67 @@ TEST(HybridTemporal, AChangeClampsTheHistoryToThisFramesRays) {
 // eighth of a pixel's CoC, not over the blur itself (which blurred it twice): a traced pixel
 // whose blur is under 8 px keeps its accumulated colour; wider ones still borrow from their
 // neighbours.
+// Two frames of a wide-aperture still view (its pixels' histories still short) and, per traced
+// pixel, the blur its spatial reconstruction reads (hybrid_spatial.comp): its layers' CoCs
+// weighted by its hit ratio, and while its history is short, no less than the widest near CoC
+// that its 3x3 neighbourhood's rays met times the share of their rays that met it.
+struct SpatialFrame {
+  struct Pixel {
+    float blur, ownBlur;
+    bool changed;  // the reconstruction differs from the history
+  };
+  std::vector<Pixel> traced;
+
+  SpatialFrame() {
+    TemporalRig rig;
+    rig.fNumber = 0.5f;  // blurs from a pixel to tens of them at 160x90
+    for (int i = 0; i < 2; ++i) rig.render(false);
+    std::vector<glm::vec4> moments = readImage(rig.history().moments);
+    std::vector<glm::vec4> history = readImage(rig.history().nearLayer);
+    std::vector<glm::vec4> reconstructed =
+        readImage(rig.pipeline.images().hybrid.reconstructedNear);
+    std::vector<glm::vec4> coc = readImage(rig.pipeline.images().hybrid.layerCoc);
+    std::vector<glm::vec4> variance = readImage(rig.variance());
+    auto at = [](int x, int y) { return size_t(y) * kWidth + size_t(x); };
+    for (int y = 0; y < int(kHeight); ++y) {
+      for (int x = 0; x < int(kWidth); ++x) {
+        size_t i = at(x, y);
+        if (moments[i].z == 0.0f) continue;  // not traced this frame
+        Pixel pixel{};
+        pixel.ownBlur = glm::mix(std::abs(coc[i].y), coc[i].x, history[i].a);
+        pixel.blur = pixel.ownBlur;
+        if (variance[i].x >= gpu::kRayMaskVarianceNew) {
+          float widest = 0.0f, ratioSum = 0.0f, count = 0.0f;
+          for (int k = 0; k < 9; ++k) {
+            size_t j = at(std::clamp(x + k % 3 - 1, 0, int(kWidth) - 1),
+                          std::clamp(y + k / 3 - 1, 0, int(kHeight) - 1));
+            if (moments[j].z == 0.0f) continue;
+            widest = std::max(widest, coc[j].x);
+            ratioSum += history[j].a;
+            count += 1.0f;
+          }
+          pixel.blur = std::max(pixel.blur, widest * ratioSum / std::max(count, 1.0f));
+        }
+        // The history is single floats, the reconstruction half floats (rounded either way).
+        glm::vec4 halfStep = glm::abs(history[i]) / 1024.0f + 1e-7f;
+        pixel.changed =
+            !glm::all(glm::lessThanEqual(glm::abs(reconstructed[i] - history[i]), halfStep));
+        traced.push_back(pixel);
+      }
+    }
+  }
+};
+
 TEST(HybridSpatial, GathersOverAnEighthOfTheBlur) {
-  TemporalRig rig;
-  rig.fNumber = 0.5f;  // blurs from a pixel to tens of them at 160x90
-  for (int i = 0; i < 2; ++i) rig.render(false);
-  const HybridImages& images = rig.pipeline.images().hybrid;
-  std::vector<glm::vec4> moments = readImage(rig.history().moments);
-  std::vector<glm::vec4> history = readImage(rig.history().nearLayer);
-  std::vector<glm::vec4> reconstructed = readImage(images.reconstructedNear);
-  std::vector<glm::vec4> coc = readImage(images.layerCoc);
+  SpatialFrame frame;
   int kept = 0, narrow = 0, borrowed = 0, wide = 0;
-  for (size_t i = 0; i < moments.size(); ++i) {
-    if (moments[i].z == 0.0f) continue;  // not traced this frame
-    float blur = glm::mix(std::abs(coc[i].y), coc[i].x, history[i].a);
-    // The history is single floats, the reconstruction half floats (rounded either way).
-    glm::vec4 halfStep = glm::abs(history[i]) / 1024.0f + 1e-7f;
-    bool same = glm::all(glm::lessThanEqual(glm::abs(reconstructed[i] - history[i]), halfStep));
-    if (blur < 7.5f) {
+  for (const SpatialFrame::Pixel& pixel : frame.traced) {
+    if (pixel.blur < 7.5f) {
       ++narrow;
-      kept += same;
-    } else if (blur > 9.0f) {
+      kept += !pixel.changed;
+    } else if (pixel.blur > 9.0f) {
       ++wide;
-      borrowed += !same;
+      borrowed += pixel.changed;
     }
   }
   std::printf("blurs under 8 px: %d of %d kept; over 9 px: %d of %d borrowed\n", kept, narrow,
@@ -224,6 +263,23 @@ TEST(HybridSpatial, GathersOverAnEighthOfTheBlur) {
   EXPECT_EQ(kept, narrow);
   EXPECT_GT(wide, 100);
   EXPECT_GT(borrowed, wide / 2);
+}
+
+// Inside a wide near blur, a young pixel whose few rays passed the near surface has the
+// background's small CoC of its own; its neighbourhood's rays say how far the near blur reaches
+// it, and it gathers over that (it stood out as a single pixel of the background's colour).
+TEST(HybridSpatial, AYoungPixelWhoseRaysPassedANearBlurGathersAsItsNeighbours) {
+  SpatialFrame frame;
+  int passed = 0, borrowed = 0;
+  for (const SpatialFrame::Pixel& pixel : frame.traced) {
+    if (pixel.ownBlur >= 7.5f || pixel.blur <= 9.0f) continue;
+    ++passed;
+    borrowed += pixel.changed;
+  }
+  std::printf("pixels whose rays passed a near blur over 9 px: %d of %d borrowed\n", borrowed,
+              passed);
+  EXPECT_GT(passed, 20);
+  EXPECT_GT(borrowed, passed / 2);
 }
 
 TEST(HybridMode, RendersThroughTheFramePipeline) {
