@@ -13,7 +13,7 @@
 layout(local_size_x = 64) in;
 
 #include "lib/frame.glsl"
-#include "shared/dof.h"
+#include "lib/dof.glsl"
 #include "shared/ray_work.h"
 
 HDOF_RAY_WORK_LIST(9, readonly);
@@ -56,6 +56,25 @@ float tracedShare(ivec2 pixel) {
   return count / 8.0;
 }
 
+// How far the pixel lies inside the tiles that such a blur reaches: the tiles' marks interpolated
+// between their centres, so that the traced colour fades in over a tile's width. A tile's own mark
+// switched the traced colour on and off at its border: where the blur's true reach is wider than
+// the marked tiles, their rectangles stood out of the post-process around them.
+float farTilesAt(ivec2 pixel) {
+  vec2 position = (vec2(pixel) + 0.5) / float(kDofTileSize) - 0.5;
+  ivec2 first = ivec2(floor(position));
+  vec2 f = position - vec2(first);
+  ivec2 last = tileCount() - 1;
+  float sum = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    ivec2 corner = ivec2(i & 1, i >> 1);
+    vec2 weights = mix(1.0 - f, f, vec2(corner));
+    float marked = imageLoad(farTiles, clamp(first + corner, ivec2(0), last)).x > 0.0 ? 1.0 : 0.0;
+    sum += weights.x * weights.y * marked;
+  }
+  return sum;
+}
+
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
@@ -73,9 +92,9 @@ void main() {
   // while.
   // Where a near-field blur wider than the post-process renders (kDofMaxCoc) reaches, the
   // post-process shows a near object too narrow and too solid, wrong by far more than a few rays'
-  // noise: the traced colour from the first ray.
-  bool beyondPostProcess = imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0;
-  float trust = beyondPostProcess ? 1.0 : clamp(far.a / kHybridTrustedRays, 0.0, 1.0);
+  // noise: the traced colour from the first ray, fading in across the marked tiles' border.
+  float beyondPostProcess = farTilesAt(pixel);
+  float trust = mix(clamp(far.a / kHybridTrustedRays, 0.0, 1.0), 1.0, beyondPostProcess);
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced

@@ -112,6 +112,7 @@ std::vector<glm::vec4> readImage(const gpu::Image& image) {
   VkFormat format = image.desc().format;
   size_t texelBytes = format == VK_FORMAT_R16G16B16A16_SFLOAT ? 8
                       : format == VK_FORMAT_R16G16_SFLOAT     ? 4
+                      : format == VK_FORMAT_R16_SFLOAT        ? 2
                       : format == VK_FORMAT_R8_UINT           ? 1
                       : format == VK_FORMAT_R32G32B32A32_SFLOAT
                           ? 16
@@ -128,6 +129,9 @@ std::vector<glm::vec4> readImage(const gpu::Image& image) {
       out[i] = glm::vec4(glm::unpackHalf2x16(words[2 * i]), glm::unpackHalf2x16(words[2 * i + 1]));
     else if (texelBytes == 4)
       out[i] = glm::vec4(glm::unpackHalf2x16(words[i]), 0.0f, 0.0f);
+    else if (texelBytes == 2)
+      out[i] = glm::vec4(glm::unpackHalf2x16(static_cast<const uint16_t*>(buffer.mapped())[i]).x,
+                         0.0f, 0.0f, 0.0f);
     else if (texelBytes == 1)
       out[i] = glm::vec4(float(static_cast<const uint8_t*>(buffer.mapped())[i]), 0.0f, 0.0f, 0.0f);
     else

@@ -61,8 +61,8 @@ void renderTruckOnto(FramePipeline& pipeline, FrameRequest request, int frames, 
 // The partial-occlusion region of the spec's view (255 inside), from its pinhole depth.
 std::vector<uint8_t> occlusionRegion(const RenderSpec& spec);
 
-// A render target's texels on the CPU (rgba16f, rg16f, rgba32f or r8ui images; the channels an
-// image lacks are 0).
+// A render target's texels on the CPU (rgba16f, rg16f, r16f, rgba32f or r8ui images; the
+// channels an image lacks are 0).
 std::vector<glm::vec4> readImage(const gpu::Image& image);
 
 // Mean squared error over RGB, in 8-bit units squared.

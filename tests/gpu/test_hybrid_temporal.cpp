@@ -5,10 +5,11 @@
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
+#include <shared/dof.h>
 
 #include <algorithm>
 #include <cstring>
-
+#include <optional>
 
 namespace hdof::test {
 namespace {
@@ -533,6 +534,62 @@ TEST(HybridMode, ANearBlurWiderThanThePostProcessRendersIsTraced) {
       ppWhole, ppRegion, hybridWhole, hybridRegion);
   EXPECT_GT(hybridWhole, ppWhole + 6.0);
   EXPECT_GT(hybridRegion, ppRegion + 6.0);
+}
+
+// Where a near blur wider than the post-process renders reaches (ray_mask_far.comp's tiles), the
+// composite shows the traced colour from the first frame. Across the border of the tiles it marks
+// the traced colour's share fades over a tile: switched there, the tiles' rectangles stood out of
+// the post-process around them. The share of a pixel: how far its colour lies from the
+// post-process's towards the traced one.
+TEST(HybridComposite,
+     TheTracedShareFadesAcrossTheBorderOfTheTilesABlurBeyondThePostProcessReaches) {
+  RenderSpec spec;
+  spec.scene = kLivingRoom;
+  spec.camera = "closeup";
+  spec.width = 640;
+  spec.height = 360;
+  spec.lens = Lens{50.0f, 0.5f, 2.4f};
+  SceneOnGpu& scene = testScene(spec.scene);
+  FrameRequest request = requestFor(spec, scene.scene);
+  request.mode = RenderMode::Hybrid;
+  request.settings.samplesPerPixel = 4;
+  FramePipeline pipeline{testContext(), scene.scene, *scene.gpu, spec.width, spec.height};
+  pipeline.render(request);
+  const FrameImages& images = pipeline.images();
+  std::vector<glm::vec4> farTiles = readImage(images.mask.farTiles);
+  std::vector<glm::vec4> rays = readImage(images.mask.rays);
+  std::vector<glm::vec4> postProcess = readImage(images.dof.output);
+  std::vector<glm::vec4> composite = readImage(images.hybrid.output);
+  std::vector<glm::vec4> near = readImage(images.hybrid.reconstructedNear);
+  std::vector<glm::vec4> far = readImage(images.hybrid.reconstructedFar);
+  const int tile = int(gpu::kDofTileSize), tilesX = int(images.mask.farTiles.width());
+  auto marked = [&](int x, int y) { return farTiles[size_t(y / tile * tilesX + x / tile)].x > 0; };
+  // The traced share, where the traced colour and the post-process's differ enough to tell.
+  auto share = [&](int x, int y) -> std::optional<float> {
+    size_t i = size_t(y) * spec.width + size_t(x);
+    glm::vec3 pp = postProcess[i], traced = glm::vec3(near[i]) + glm::vec3(far[i]);
+    glm::vec3 apart = traced - pp;
+    if (rays[i].x == 0.0f || glm::dot(apart, apart) < 0.01f) return std::nullopt;
+    return glm::dot(glm::vec3(composite[i]) - pp, apart) / glm::dot(apart, apart);
+  };
+  // Neighbouring pixels with a marked tile on one side only.
+  std::vector<float> steps;
+  for (int y = 0; y < int(spec.height); ++y) {
+    for (int x = 0; x < int(spec.width); ++x) {
+      for (glm::ivec2 next : {glm::ivec2(x + 1, y), glm::ivec2(x, y + 1)}) {
+        if (next.x >= int(spec.width) || next.y >= int(spec.height)) continue;
+        if (marked(x, y) == marked(next.x, next.y)) continue;
+        std::optional<float> a = share(x, y), b = share(next.x, next.y);
+        if (a && b) steps.push_back(std::abs(*a - *b));
+      }
+    }
+  }
+  ASSERT_GT(steps.size(), 10u);
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  float median = steps[steps.size() / 2];
+  std::printf("%zu pixel pairs across the marked tiles' border: median step of the share %.3f\n",
+              steps.size(), median);
+  EXPECT_LT(median, 0.25f);
 }
 
 // With every pixel traced, the hybrid is a ray tracer with a different reconstruction: its image
