@@ -82,14 +82,18 @@ ImageRgba8 renderImage(RenderSpec spec, RenderMode mode, uint32_t rays, uint32_t
   return renderImage(spec);
 }
 
-std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* requestOut) {
+std::unique_ptr<FramePipeline> renderFirstFrame(const RenderSpec& spec) {
   SceneOnGpu& scene = testScene(spec.scene);
-  FrameRequest request = requestFor(spec, scene.scene);
-  request.mode = RenderMode::Pinhole;
-  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-  pipeline.render(request);
-  if (requestOut) *requestOut = request;
-  return pipeline.linearDepth();
+  auto pipeline = std::make_unique<FramePipeline>(testContext(), scene.scene, *scene.gpu,
+                                                  spec.width, spec.height);
+  pipeline->render(requestFor(spec, scene.scene));
+  return pipeline;
+}
+
+std::vector<float> renderDepth(RenderSpec spec, FrameRequest* requestOut) {
+  spec.mode = RenderMode::Pinhole;
+  if (requestOut) *requestOut = requestFor(spec, testScene(spec.scene).scene);
+  return renderFirstFrame(spec)->linearDepth();
 }
 
 void renderTruckOnto(FramePipeline& pipeline, FrameRequest request, int frames, float step) {

@@ -52,8 +52,11 @@ ImageRgba8 renderImage(const RenderSpec& spec);
 // The spec's view in `mode`, with `rays` per pixel (reference: in all; else each frame) over
 // `frames` frames of a still camera.
 ImageRgba8 renderImage(RenderSpec spec, RenderMode mode, uint32_t rays = 1, uint32_t frames = 1);
+// A pipeline for the spec's view that has rendered its first frame (spec.mode, spec.raysPerPixel
+// rays per pixel), for tests that read its images back.
+std::unique_ptr<FramePipeline> renderFirstFrame(const RenderSpec& spec);
 // The pinhole frame's linear depth, with the request the spec makes (for CoC parameters).
-std::vector<float> renderDepth(const RenderSpec& spec, FrameRequest* request = nullptr);
+std::vector<float> renderDepth(RenderSpec spec, FrameRequest* request = nullptr);
 
 // Frames of a truck to the right, `step` metres a frame, whose last frame is the request's view.
 void renderTruckOnto(FramePipeline& pipeline, FrameRequest request, int frames, float step);

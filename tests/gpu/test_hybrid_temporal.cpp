@@ -549,13 +549,10 @@ TEST(HybridComposite,
   spec.width = 640;
   spec.height = 360;
   spec.lens = Lens{50.0f, 0.5f, 2.4f};
-  SceneOnGpu& scene = testScene(spec.scene);
-  FrameRequest request = requestFor(spec, scene.scene);
-  request.mode = RenderMode::Hybrid;
-  request.settings.samplesPerPixel = 4;
-  FramePipeline pipeline{testContext(), scene.scene, *scene.gpu, spec.width, spec.height};
-  pipeline.render(request);
-  const FrameImages& images = pipeline.images();
+  spec.mode = RenderMode::Hybrid;
+  spec.raysPerPixel = 4;
+  std::unique_ptr<FramePipeline> pipeline = renderFirstFrame(spec);
+  const FrameImages& images = pipeline->images();
   std::vector<glm::vec4> farTiles = readImage(images.mask.farTiles);
   std::vector<glm::vec4> rays = readImage(images.mask.rays);
   std::vector<glm::vec4> postProcess = readImage(images.dof.output);
