@@ -103,7 +103,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"historyFar", h.reconstructedFar},
                     {"outColor", h.output},
                     {"workList", m.workList},
-                    {"farTiles", m.farTiles}},
+                    {"farTiles", m.farTiles},
+                    {"variance", h.variance}},
                    Grid::indirect(m.workList));
   } else {
     steps.dispatch(debugView_,

@@ -419,6 +419,35 @@ TEST(HybridMode, AStillViewKeepsImproving) {
   }
 }
 
+// A far-field blur that the post-process renders well (the edges of a picture frame, a sofa and a
+// wall behind a table in focus): the traced colour is shown where it differs from the post-process
+// by more than its noise, so the hybrid does not fall while its rays are still noisier than the
+// post-process. Handed over by their count alone, it read 42.27 dB at 8 frames, 41.62 at 12 and
+// 42.10 at 16, under the post-process's 42.61 (smaller images do not show it: at 480x270 the
+// post-process's error is larger).
+TEST(HybridMode, AFarBlurThePostProcessRendersWellKeepsItsColourWhileTheRaysAreNoisier) {
+  RenderSpec spec;
+  spec.scene = kLivingRoom;
+  spec.camera = "overview";
+  spec.eye = glm::vec3(2.6f, 0.9f, -0.6f);
+  spec.target = glm::vec3(2.0f, 0.8f, -4.0f);
+  spec.width = 640;
+  spec.height = 360;
+  spec.lens = Lens{32.0f, 2.0f, 1.15f};
+  const ImageRgba8 reference = renderImage(spec, RenderMode::Reference, 256);
+  double postProcess =
+      compareImages(renderImage(spec, RenderMode::PostProcess, 1, 16), reference).psnrDb;
+  double previous = 0.0;
+  for (uint32_t frames : {8u, 12u, 16u}) {
+    double hybrid =
+        compareImages(renderImage(spec, RenderMode::Hybrid, 4, frames), reference).psnrDb;
+    std::printf("postprocess %.2f dB, hybrid %u frames %.2f dB\n", postProcess, frames, hybrid);
+    EXPECT_GE(hybrid, previous) << frames << " frames";
+    previous = hybrid;
+  }
+  EXPECT_GE(previous, postProcess);
+}
+
 // Once a view has rested until the raster has all its samples, every pixel gets rays (those the
 // mask leaves out one a frame): the hybrid goes on converging to the ray-traced image rather than
 // stopping at the post-process's where the mask saw nothing to do.
