@@ -4,11 +4,11 @@
 // over to the traced colour as rays add up (on a still view as their count weighs against the
 // raster's samples); in the near field the ray-traced colour, except bright specular bokeh where
 // the post-process wins by the specular intensity; in the far field the ray-traced colour where
-// near geometry covers the pixel (hit ratio) and inside the traced region (there as far as it
-// differs from the post-process by more than its noise), fading to the post-process over the last
-// pixels before the mask's edge, so that the edge leaves no seam. One
-// thread per pixel of the ray mask's work list: the others hold the post-process's colour already
-// (step hybrid_composite_copy).
+// near geometry covers the pixel (hit ratio) and inside the traced region, fading to the
+// post-process over the last pixels before the mask's edge, so that the edge leaves no seam. In
+// the near field and inside the traced region, the traced colour is shown as far as it differs
+// from the post-process by more than its noise. One thread per pixel of the ray mask's work list:
+// the others hold the post-process's colour already (step hybrid_composite_copy).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -32,6 +32,8 @@ layout(set = 1, binding = 10, r16f) uniform readonly image2D farTiles;
 layout(set = 1, binding = 11, r16f) uniform readonly image2D samplesAveraged;  // in `sharp`
 // rg16f: the variance of one ray's luminance and the rays accumulated (hybrid_temporal.comp).
 layout(set = 1, binding = 12, rg16f) uniform readonly image2D variance;
+// r16f: the pixels' worth of rays that historyNear and historyFar average (hybrid_spatial.comp).
+layout(set = 1, binding = 13, r16f) uniform readonly image2D gatherGain;
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
@@ -49,10 +51,9 @@ const float kBokehSpecular = 4.0;
 // enough (from 12 on, the gain between the 8th and the 16th frame was half as large; from 4, the
 // 4th frames of the closeup lost 0.3 dB); the rare bright hits below which rays' variance says
 // little of their mean's error (a near lamp's bokeh rim in builtin:dof kept the post-process's
-// dimmer disc at 32 frames); and the share of one pixel's noise that the colour shown keeps (it
-// is the spatial reconstruction's, which averages neighbours': with 1, builtin:dof at 32 frames
-// lost 0.06 dB; with 0.7 six views were within 0.05 dB of the count alone or better at 1-48
-// frames).
+// dimmer disc at 32 frames); and the share of the noise that counts (at 1, builtin:dof at 32
+// frames lost 0.06 dB; at 0.7 seven views were within 0.1 dB of the count alone or better from 1
+// to 48 frames).
 const float kVarianceFrames = 8.0;
 const float kBrightHits = 10.0;
 const float kShownNoise = 0.7;
@@ -89,15 +90,16 @@ float farTilesAt(ivec2 pixel) {
   return sum;
 }
 
-// How much of the traced colour a far-field pixel inside the traced region shows, once its rays
-// are trusted: the share of the traced colour's squared difference from the post-process that is
-// the post-process's error rather than the traced mean's noise (variance over rays), both summed
-// over the 3x3 pixels (a positive-part James-Stein weight). Where the post-process renders the
-// blur well (a far blur of similar depths) the difference is noise, and the post-process's smooth
-// colour stays until the rays' noise falls below its error; where it is wrong (a halo, a disc it
-// misses) the difference stands out of the noise. 1 while the variance cannot bound the noise: a
-// variance of fewer than kVarianceFrames frames of the pixel's rays, or rays whose luminance is a
-// few rare bright hits (a light's blur: fewer than kBrightHits such hits, n L^2 / variance).
+// How much of the traced colour a pixel shows, once its rays are trusted: the share of the traced
+// colour's squared difference from the post-process that is the post-process's error rather than
+// the noise of the traced colour (variance over the rays it averages, gatherGain counting the
+// spatial reconstruction's neighbours), both summed over the 3x3 pixels (a positive-part
+// James-Stein weight). Where the post-process renders the blur well (a far blur of similar
+// depths) the difference is noise, and the post-process's smooth colour stays until the rays'
+// noise falls below its error; where it is wrong (partial occlusion, a halo, a disc it misses) the
+// difference stands out of the noise. 1 while the variance cannot bound the noise: a variance of
+// fewer than kVarianceFrames frames of the pixel's rays, or rays whose luminance is a few rare
+// bright hits (a light's blur: fewer than kBrightHits such hits, n L^2 / variance).
 float tracedBeyondNoise(vec3 traced, ivec2 pixel, float rays) {
   vec2 own = imageLoad(variance, pixel).rg;
   float l = luminance(traced);
@@ -114,7 +116,7 @@ float tracedBeyondNoise(vec3 traced, ivec2 pixel, float rays) {
                  imageLoad(postProcess, q).rgb);
     float largest = max(max(d.r, d.g), d.b);
     difference += largest * largest;
-    noise += v.x / v.y;
+    noise += v.x / (v.y * imageLoad(gatherGain, q).x);
   }
   noise *= kShownNoise * kShownNoise;
   return difference > noise ? 1.0 - noise / difference : 0.0;
@@ -158,7 +160,7 @@ void main() {
     }
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(imageLoad(specular, pixel).rgb) / kBokehSpecular, 0.0, 1.0);
-    color = mix(pp, traced, trust * (1.0 - bokeh));
+    color = mix(pp, traced, trust * (1.0 - bokeh) * tracedBeyondNoise(traced, pixel, rays));
   } else {
     float inside = smoothstep(0.5, 1.0, tracedShare(pixel));
     color = mix(pp, traced, trust * max(smoothstep(0.0, kFarBlendRatio, ratio),

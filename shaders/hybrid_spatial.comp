@@ -29,6 +29,9 @@ layout(set = 1, binding = 6, rgba32f) uniform readonly image2D historyMoments;
 layout(set = 1, binding = 7, rg16f) uniform readonly image2D variance;  // of one ray, rays
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
+// r16f: how many pixels' worth of rays the reconstructed colour averages, the effective count of
+// its weights (1: the pixel's own alone), so that the composite knows the noise left in it.
+layout(set = 1, binding = 10) uniform writeonly image2D outGain;
 
 const int kTaps = 6;  // pairs of taps
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
@@ -76,7 +79,7 @@ void main() {
       min(kHybridSpatialRadiusOfCoc * max(blendedCoc(pixel, near.a), nearReach), kMaxRadius);
 
   vec4 nearSum = near, farSum = far;
-  float weightSum = 1.0;
+  float weightSum = 1.0, weightSquares = 1.0;
   ivec2 size = ivec2(frame.imageSize);
   float turn = toUnitFloat(pcgHash(uint(pixel.x) * 7919u + uint(pixel.y) * 104729u));
   // No taps under a pixel's radius. A bound rather than a branch: a device that runs both sides
@@ -111,7 +114,9 @@ void main() {
     nearSum += w * pairNear;
     farSum += w * pairFar;
     weightSum += w * pairTaps;
+    weightSquares += w * w * pairTaps;
   }
   imageStore(outNear, pixel, nearSum / weightSum);
   imageStore(outFar, pixel, vec4(farSum.rgb / weightSum, far.a));
+  imageStore(outGain, pixel, vec4(weightSum * weightSum / weightSquares));
 }

@@ -85,7 +85,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"historyMoments", next.moments},
                   {"variance", h.variance},
                   {"outNear", h.reconstructedNear},
-                  {"outFar", h.reconstructedFar}},
+                  {"outFar", h.reconstructedFar},
+                  {"outGain", h.gatherGain}},
                  Grid::indirect(m.workList));
   if (view == DebugView::Final || view == DebugView::FocusZone) {
     // The post-process's colour where the mask did not trace; the composite the rest.
@@ -104,7 +105,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"outColor", h.output},
                     {"workList", m.workList},
                     {"farTiles", m.farTiles},
-                    {"variance", h.variance}},
+                    {"variance", h.variance},
+                    {"gatherGain", h.gatherGain}},
                    Grid::indirect(m.workList));
   } else {
     steps.dispatch(debugView_,
