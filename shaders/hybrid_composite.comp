@@ -16,6 +16,7 @@ layout(local_size_x = 64) in;
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
 #include "shared/ray_work.h"
+#include "lib/skippable.glsl"
 
 HDOF_RAY_WORK_LIST(9, readonly);
 layout(set = 1, binding = 1, r8ui) uniform readonly uimage2D rays;
@@ -30,10 +31,8 @@ layout(set = 1, binding = 8) uniform writeonly image2D outColor;  // rgba16f
 // Per tile, whether a near-field blur wider than the tile dilation reaches it (ray_mask_far.comp).
 layout(set = 1, binding = 10, r16f) uniform readonly image2D farTiles;
 layout(set = 1, binding = 11, r16f) uniform readonly image2D samplesAveraged;  // in `sharp`
-// rg16f: the variance of one ray's luminance and the rays accumulated (hybrid_temporal.comp).
-layout(set = 1, binding = 12, rg16f) uniform readonly image2D variance;
-// r16f: the pixels' worth of rays that historyNear and historyFar average (hybrid_spatial.comp).
-layout(set = 1, binding = 13, r16f) uniform readonly image2D gatherGain;
+// rg16f: each traced pixel's difference from the post-process and noise (hybrid_spatial.comp).
+layout(set = 1, binding = 12, rg16f) uniform readonly image2D difference;
 
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
@@ -47,16 +46,6 @@ const float kConvergedRays = 32.0;
 const float kRasterSampleRays = 2.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
-// tracedBeyondNoise: the frames of a pixel's rays from which their variance is measured well
-// enough (from 12 on, the gain between the 8th and the 16th frame was half as large; from 4, the
-// 4th frames of the closeup lost 0.3 dB); the rare bright hits below which rays' variance says
-// little of their mean's error (a near lamp's bokeh rim in builtin:dof kept the post-process's
-// dimmer disc at 32 frames); and the share of the noise that counts (at 1, builtin:dof at 32
-// frames lost 0.06 dB; at 0.7 seven views were within 0.1 dB of the count alone or better from 1
-// to 48 frames).
-const float kVarianceFrames = 8.0;
-const float kBrightHits = 10.0;
-const float kShownNoise = 0.7;
 
 // How far inside the traced region the pixel lies: the share of eight pixels on a circle of
 // radius kSeamFade around it that the mask traced, from 0.5 on the edge to 1 well inside.
@@ -92,41 +81,26 @@ float farTilesAt(ivec2 pixel) {
 
 // How much of the traced colour a pixel shows, once its rays are trusted: the share of the traced
 // colour's squared difference from the post-process that is the post-process's error rather than
-// the noise of the traced colour (variance over the rays it averages, gatherGain counting the
-// spatial reconstruction's neighbours), both summed over the 3x3 pixels (a positive-part
-// James-Stein weight). Where the post-process renders the blur well (a far blur of similar
-// depths) the difference is noise, and the post-process's smooth colour stays until the rays'
-// noise falls below its error; where it is wrong (partial occlusion, a halo, a disc it misses) the
-// difference stands out of the noise. 1 while the variance cannot bound the noise: a variance of
-// fewer than kVarianceFrames frames of the pixel's rays, or rays whose luminance is a few rare
-// bright hits (a light's blur: fewer than kBrightHits such hits, n L^2 / variance).
-float tracedBeyondNoise(vec3 traced, ivec2 pixel, float rays) {
-  vec2 own = imageLoad(variance, pixel).rg;
-  float l = luminance(traced);
-  if (own.x >= kRayMaskVarianceNew || own.y < kVarianceFrames * rays ||
-      own.x * kBrightHits > own.y * l * l)
-    return 1.0;
-  float difference = 0.0, noise = 0.0;
+// the traced colour's noise, both summed over the 3x3 pixels (a positive-part James-Stein weight).
+// Where the post-process renders the blur well (a far blur of similar depths) the difference is
+// noise, and the post-process's smooth colour stays until the rays' noise falls below its error;
+// where it is wrong (partial occlusion, a halo, a disc it misses) the difference stands out of the
+// noise. Neighbours whose noise is not measured (0: not traced, or a short history) do not count.
+float tracedBeyondNoise(ivec2 pixel) {
+  float squared = 0.0, noise = 0.0;
   ivec2 last = ivec2(frame.imageSize) - 1;
   for (int i = 0; i < 9; ++i) {
-    ivec2 q = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), last);
-    vec2 v = imageLoad(variance, q).rg;
-    if (v.x >= kRayMaskVarianceNew || v.y <= 0.0) continue;  // not traced, or new
-    vec3 d = abs(imageLoad(historyNear, q).rgb + imageLoad(historyFar, q).rgb -
-                 imageLoad(postProcess, q).rgb);
-    float largest = max(max(d.r, d.g), d.b);
-    difference += largest * largest;
-    noise += v.x / (v.y * imageLoad(gatherGain, q).x);
+    vec2 q = imageLoad(difference, clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), last)).xy;
+    if (q.y == 0.0) continue;
+    squared += q.x * q.x;
+    noise += q.y * q.y;
   }
-  noise *= kShownNoise * kShownNoise;
-  return difference > noise ? 1.0 - noise / difference : 0.0;
+  return squared > noise ? 1.0 - noise / squared : 0.0;
 }
 
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
-  uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
-  ivec2 pixel = ivec2(unpackRayWorkPixel(entry.x));
-  float rays = float(entry.y);
+  ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
   vec3 pp = imageLoad(postProcess, pixel).rgb;
   vec4 near = imageLoad(historyNear, pixel);
   float ratio = clamp(near.a, 0.0, 1.0);
@@ -144,6 +118,11 @@ void main() {
   // noise: the traced colour from the first ray, fading in across the marked tiles' border.
   float beyondPostProcess = farTilesAt(pixel);
   float trust = mix(clamp(far.a / kHybridTrustedRays, 0.0, 1.0), 1.0, beyondPostProcess);
+  // Out of the focus zone, where the pixel's own noise is measured.
+  float beyondNoise = 1.0;
+  SKIPPABLE_IF(abs(coc) >= kDofFocusZone && imageLoad(difference, pixel).y > 0.0) {
+    beyondNoise = tracedBeyondNoise(pixel);
+  }
   vec3 color;
   if (abs(coc) < kDofFocusZone) {
     // Past the near layer, the in-focus surface is the sharp raster's, until the rays traced
@@ -160,11 +139,11 @@ void main() {
     }
   } else if (coc < 0.0) {
     float bokeh = clamp(luminance(imageLoad(specular, pixel).rgb) / kBokehSpecular, 0.0, 1.0);
-    color = mix(pp, traced, trust * (1.0 - bokeh) * tracedBeyondNoise(traced, pixel, rays));
+    color = mix(pp, traced, trust * (1.0 - bokeh) * beyondNoise);
   } else {
     float inside = smoothstep(0.5, 1.0, tracedShare(pixel));
-    color = mix(pp, traced, trust * max(smoothstep(0.0, kFarBlendRatio, ratio),
-                                        inside * tracedBeyondNoise(traced, pixel, rays)));
+    color = mix(pp, traced,
+                trust * max(smoothstep(0.0, kFarBlendRatio, ratio), inside * beyondNoise));
   }
   imageStore(outColor, pixel, vec4(color, 1.0));
 }

@@ -9,7 +9,9 @@
 // CoC blurred it a second time (a biased edge that more rays never removed), an eighth of it holds
 // a pixel's blur the same while still denoising wide blurs. While a pixel's history is short, its
 // own CoC is a few rays' chance (youngNearCoc): it gathers at least as far as the near blur its
-// neighbourhood's rays met reaches it. One thread per pixel of the ray mask's work list.
+// neighbourhood's rays met reaches it. For the composite's noise test it also writes how far the
+// reconstructed colour lies from the post-process's and the noise left in it. One thread per pixel
+// of the ray mask's work list.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -29,9 +31,16 @@ layout(set = 1, binding = 6, rgba32f) uniform readonly image2D historyMoments;
 layout(set = 1, binding = 7, rg16f) uniform readonly image2D variance;  // of one ray, rays
 layout(set = 1, binding = 8) uniform writeonly image2D outNear;
 layout(set = 1, binding = 9) uniform writeonly image2D outFar;
-// r16f: how many pixels' worth of rays the reconstructed colour averages, the effective count of
-// its weights (1: the pixel's own alone), so that the composite knows the noise left in it.
-layout(set = 1, binding = 10) uniform writeonly image2D outGain;
+layout(set = 1, binding = 10, rgba16f) uniform readonly image2D postProcess;  // its colour, HDR
+// rg16f: for the composite's noise test (hybrid_composite.comp: tracedBeyondNoise), how far the
+// reconstructed colour lies from the post-process's (its largest channel) and the noise left in it
+// (a standard deviation: the variance of the rays it averages, the pixel's times the effective
+// count of the gather's weights, scaled by kNoiseTestShare); 0 where the variance is not measured
+// (a short history, and in motion or a focus pull), and negative where it cannot bound the
+// pixel's own error, which leaves the pixel to the count of its rays: a variance of fewer than
+// kNoiseTestFrames frames of its rays, or rays whose luminance is a few rare bright hits (a
+// light's blur: fewer than kNoiseTestBrightHits such hits, n L^2 / variance).
+layout(set = 1, binding = 11) uniform writeonly image2D outDifference;
 
 const int kTaps = 6;  // pairs of taps
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
@@ -66,7 +75,8 @@ float youngNearCoc(ivec2 pixel) {
 
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
-  ivec2 pixel = ivec2(unpackRayWorkPixel(workList.entries[gl_GlobalInvocationID.x].x));
+  uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
+  ivec2 pixel = ivec2(unpackRayWorkPixel(entry.x));
   vec4 near = imageLoad(historyNear, pixel);
   vec4 far = imageLoad(historyFar, pixel);
   float lum = luminance(near.rgb + far.rgb);
@@ -116,7 +126,23 @@ void main() {
     weightSum += w * pairTaps;
     weightSquares += w * w * pairTaps;
   }
-  imageStore(outNear, pixel, nearSum / weightSum);
-  imageStore(outFar, pixel, vec4(farSum.rgb / weightSum, far.a));
-  imageStore(outGain, pixel, vec4(weightSum * weightSum / weightSquares));
+  vec4 outNearValue = nearSum / weightSum;
+  vec3 outFarColor = farSum.rgb / weightSum;
+  imageStore(outNear, pixel, outNearValue);
+  imageStore(outFar, pixel, vec4(outFarColor, far.a));
+
+  vec3 shown = outNearValue.rgb + outFarColor;
+  vec3 difference = abs(shown - imageLoad(postProcess, pixel).rgb);
+  float spread = 0.0;
+  if (frame.stillFrames > 0u && rayVariance < kRayMaskVarianceNew) {
+    float gain = weightSum * weightSum / weightSquares;
+    // Above 0 (a half float's smallest steps): 0 is a pixel without a measured noise.
+    spread = max(kNoiseTestShare * sqrt(rayVariance / (far.a * gain)), 1e-6);
+    float shownLum = luminance(shown);
+    if (far.a < kNoiseTestFrames * float(entry.y) ||
+        rayVariance * kNoiseTestBrightHits > far.a * shownLum * shownLum)
+      spread = -spread;
+  }
+  imageStore(outDifference,
+             pixel, vec4(max(max(difference.r, difference.g), difference.b), spread, 0.0, 0.0));
 }

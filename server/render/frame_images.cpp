@@ -115,7 +115,7 @@ HybridImages::HybridImages(gpu::ImageBatch& batch, uint32_t w, uint32_t h)
       variance(batch.make(w, h, kPair, "hybrid variance")),
       reconstructedNear(batch.make(w, h, kColor, "hybrid reconstructed near")),
       reconstructedFar(batch.make(w, h, kColor, "hybrid reconstructed far")),
-      gatherGain(batch.make(w, h, VK_FORMAT_R16_SFLOAT, "hybrid gather gain")),
+      difference(batch.make(w, h, kPair, "hybrid difference")),
       output(batch.make(w, h, kColor, "hybrid output")) {}
 
 FrameImages::FrameImages(const gpu::Context& context, uint32_t w, uint32_t h)

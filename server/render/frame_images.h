@@ -88,7 +88,8 @@ struct HybridImages {
   gpu::Image variance;
   // The spatial reconstruction's, as History's near and far layers.
   gpu::Image reconstructedNear, reconstructedFar;
-  gpu::Image gatherGain;  // r16f: the pixels' worth of rays they average (hybrid_spatial.comp)
+  // rg16f: their difference from the post-process and their noise (hybrid_spatial.comp)
+  gpu::Image difference;
   gpu::Image output;  // rgba16f: the composite (or a debug view), HDR
 };
 

@@ -45,7 +45,10 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   // mask leaves none out.
   if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
     steps.dispatch(historyClear_,
-                   {{"rays", m.rays}, {"moments", next.moments}, {"variance", h.variance}},
+                   {{"rays", m.rays},
+                    {"moments", next.moments},
+                    {"variance", h.variance},
+                    {"difference", h.difference}},
                    Grid::over(m.rays));
   }
   // The moving average's window (frames at the full rays per pixel): short after a change of view
@@ -86,7 +89,8 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"variance", h.variance},
                   {"outNear", h.reconstructedNear},
                   {"outFar", h.reconstructedFar},
-                  {"outGain", h.gatherGain}},
+                  {"postProcess", images.dof.output},
+                  {"outDifference", h.difference}},
                  Grid::indirect(m.workList));
   if (view == DebugView::Final || view == DebugView::FocusZone) {
     // The post-process's colour where the mask did not trace; the composite the rest.
@@ -105,8 +109,7 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"outColor", h.output},
                     {"workList", m.workList},
                     {"farTiles", m.farTiles},
-                    {"variance", h.variance},
-                    {"gatherGain", h.gatherGain}},
+                    {"difference", h.difference}},
                    Grid::indirect(m.workList));
   } else {
     steps.dispatch(debugView_,
