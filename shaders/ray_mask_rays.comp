@@ -1,21 +1,19 @@
-// Ray mask (stage 3), spread along columns and ray counts: a pixel is within an edge's disc when a
-// pixel of its column reaches it (see ray_mask_spread.comp), or when its tile is one that a disc
-// wider than the tile dilation reaches (ray_mask_far.comp; the sharper side of such an edge taken
-// to be the pixel's own CoC). Rays where an edge needs them or where the ray-traced output is
-// noisy, at least 1 and at most the frame's samples per pixel: as many as the strongest edge asks
-// for while the pixel is new to the mask, then as many as the variance of its rays asks for
-// (settled, quiet pixels keep a ray or two a frame, enough for their history to go on; on a still
-// view out of focus, a pixel counts as noisy as its noisiest settled neighbour). Rays by CoC: where
-// every edge that reaches the pixel is blurred on both sides, what its rays see varies slowly
-// across the image, and the spatial reconstruction fills in from the neighbours: the rays fall with
-// the area of the sharper side's blur beyond kRayMaskDenseCoc, in motion (of the camera or the
-// lens: a focus pull) and over a view's first frames; once camera and lens have rested
-// kStillRasterFrames frames, a settled pixel's rays follow its variance alone, so that a resting
-// view keeps converging as fast, and a pixel the composite trusts gets them all. Then the tile's
-// pixels with rays are appended to the work list together (one atomic per workgroup and counter; a
-// ballot gives each lane its slot among its subgroup's), so that the tracer's subgroups, which take
-// consecutive entries, trace neighbouring pixels: measured 6% faster than one atomic per subgroup,
-// whose tiles interleave in the list as the device's threads run them side by side.
+// Ray mask (stage 3), ray counts: rays where an edge's disc covers the pixel (ray_mask_columns.comp)
+// or where the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as
+// many as the strongest edge asks for while the pixel is new to the mask, then as many as the
+// variance of its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their
+// history to go on; on a still view out of focus, a pixel counts as noisy as its noisiest settled
+// neighbour). Rays by CoC: where every edge that reaches the pixel is blurred on both sides, what
+// its rays see varies slowly across the image, and the spatial reconstruction fills in from the
+// neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc, in
+// motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera and
+// lens have rested kStillRasterFrames frames, a settled pixel's rays follow its variance alone, so
+// that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
+// Then the tile's pixels with rays are appended to the work list together (one atomic per
+// workgroup and counter; a ballot gives each lane its slot among its subgroup's), so that the
+// tracer's subgroups, which take consecutive entries, trace neighbouring pixels: measured 6% faster
+// than one atomic per subgroup, whose tiles interleave in the list as the device's threads run them
+// side by side.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -25,42 +23,26 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
 #include "shared/ray_work.h"
-#include "lib/skippable.glsl"
 
-layout(set = 1, binding = 1, rgba16f) uniform readonly image2D spread;
-layout(set = 1, binding = 2, rg16f) uniform readonly image2D dilatedTiles;
+// The edges whose disc covers the pixel: the strongest (x; -1: none), their sharper sides' |CoC|.
+layout(set = 1, binding = 1, rg16f) uniform readonly image2D covered;
 // Any float format: the variance of one ray and the rays accumulated (hybrid_temporal.comp); a
 // 1x1 zero image when there is no variance yet.
-layout(set = 1, binding = 3) uniform sampler2D variance;
-layout(set = 1, binding = 4, r8ui) uniform writeonly uimage2D rays;
-HDOF_RAY_WORK_LIST(5, coherent);
-layout(set = 1, binding = 6, r16f) uniform readonly image2D farTiles;
-layout(set = 1, binding = 7, rgba32f) uniform readonly image2D normalDepth;
+layout(set = 1, binding = 2) uniform sampler2D variance;
+layout(set = 1, binding = 3, r8ui) uniform writeonly uimage2D rays;
+HDOF_RAY_WORK_LIST(4, coherent);
+layout(set = 1, binding = 5, rgba32f) uniform readonly image2D normalDepth;
 
 layout(push_constant) uniform Push {
   uint everywhere;  // 1: every pixel gets the full rays
 } push;
 
 // The pixel's rays this frame.
-uint rayCount(ivec2 pixel, ivec2 size) {
-  int radius = searchRadius(imageLoad(dilatedTiles, pixel / int(kDofTileSize)).x);
-  bool nearEdge = false;
-  float strongest = 0.0;
-  float sharpest = kDofMaxCoc;
-  for (int dy = max(-radius, -pixel.y); dy <= min(radius, size.y - 1 - pixel.y); ++dy) {
-    vec3 row = imageLoad(spread, pixel + ivec2(0, dy)).xyz;
-    if (row.x >= float(abs(dy))) {
-      nearEdge = true;
-      strongest = maxOfPositive(strongest, row.y);
-      sharpest = minOfPositive(sharpest, row.z);
-    }
-  }
-  // Most tiles are reached by no such disc.
-  SKIPPABLE_IF(imageLoad(farTiles, pixel / int(kDofTileSize)).x > 0.0) {
-    nearEdge = true;
-    strongest = 1.0;
-    sharpest = min(sharpest, abs(signedCoc(imageLoad(normalDepth, pixel).w)));
-  }
+uint rayCount(ivec2 pixel) {
+  vec2 edges = imageLoad(covered, pixel).xy;
+  bool nearEdge = edges.x >= 0.0;
+  float strongest = max(edges.x, 0.0);
+  float sharpest = edges.y;
   ivec2 last = textureSize(variance, 0) - 1;
   vec2 history = texelFetch(variance, min(pixel, last), 0).rg;
   float noise = history.x;
@@ -112,7 +94,7 @@ void main() {
   ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
   ivec2 size = ivec2(frame.imageSize);
   bool inside = all(lessThan(pixel, size));
-  uint count = inside ? rayCount(pixel, size) : 0u;
+  uint count = inside ? rayCount(pixel) : 0u;
   if (inside) imageStore(rays, pixel, uvec4(count));
   if (gl_LocalInvocationIndex == 0u) {
     groupListed = 0u;

@@ -89,6 +89,7 @@ RayMaskImages::RayMaskImages(gpu::ImageBatch& batch, const gpu::Context& context
   farRows = makeTiles(batch, w, h, kScalar, "ray mask far rows");
   farTiles = makeTiles(batch, w, h, kScalar, "ray mask far tiles");
   spread = batch.make(w, h, kColor, "ray mask spread");
+  covered = batch.make(w, h, kPair, "ray mask covered");
   rays = batch.make(w, h, VK_FORMAT_R8_UINT, "ray mask rays");
   workList = gpu::Buffer(context,
                          sizeof(gpu::RayWorkHeader) + VkDeviceSize(w) * h * gpu::kRayWorkEntrySize,

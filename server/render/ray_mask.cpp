@@ -16,6 +16,7 @@ RayMask::RayMask(const gpu::Context& context)
       farRows_(context, "ray_mask_far.comp", nullptr, {{"kColumns", 0}}),
       farColumns_(context, "ray_mask_far.comp", nullptr, {{"kColumns", 1}}),
       spread_(context, "ray_mask_spread.comp"),
+      columns_(context, "ray_mask_columns.comp"),
       rays_(context, "ray_mask_rays.comp"),
       indirect_(context, "ray_mask_indirect.comp"),
       noVarianceBatch_(context),
@@ -48,15 +49,20 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
                     {"dilatedTiles", m.dilatedTiles},
                     {"spread", m.spread}},
                    Grid::over(m.spread));
+    steps.dispatch(columns_,
+                   {{"spread", m.spread},
+                    {"dilatedTiles", m.dilatedTiles},
+                    {"farTiles", m.farTiles},
+                    {"normalDepth", g.normalDepth},
+                    {"covered", m.covered}},
+                   Grid::over(m.covered));
   }
   uint32_t everywhereFlag = options.everywhere ? 1u : 0u;
   steps.dispatch(rays_,
-                 {{"spread", m.spread},
-                  {"dilatedTiles", m.dilatedTiles},
+                 {{"covered", m.covered},
                   {"variance", varianceOrNull ? *varianceOrNull : noVariance_},
                   {"rays", m.rays},
                   {"workList", m.workList},
-                  {"farTiles", m.farTiles},
                   {"normalDepth", g.normalDepth}},
                  Grid::over(m.rays), everywhereFlag);
   // The count is final only once every workgroup has appended.

@@ -3,9 +3,10 @@
 // pixel by that side's CoC disc (where partial occlusion shows), plus where the ray-traced
 // output's luminance variance is high. Steps (shaders/ray_mask_*.comp, and the post-process's
 // tile max and dilation run on the edges' reach): clear (the list's header), edges, tiles,
-// dilate, far rows and columns (discs wider than the dilation reaches, per tile), spread, rays
-// (which also lists the pixels), indirect, readback (the header, for the frame's stats). Ends
-// with a compacted work list of those pixels and its indirect dispatch arguments.
+// dilate, far rows and columns (discs wider than the dilation reaches, per tile), spread along
+// rows and along columns, rays (which also lists the pixels), indirect, readback (the header, for
+// the frame's stats). Ends with a compacted work list of those pixels and its indirect dispatch
+// arguments.
 #pragma once
 
 #include "render/frame_images.h"
@@ -39,7 +40,7 @@ class RayMask {
   // largest disc that can cover a pixel of it, which bounds the dilation's search there.
   gpu::ComputeProgram tiles_, dilate_;
   gpu::ComputeProgram farRows_, farColumns_;
-  gpu::ComputeProgram spread_, rays_, indirect_;
+  gpu::ComputeProgram spread_, columns_, rays_, indirect_;
   gpu::ImageBatch noVarianceBatch_;
   gpu::Image noVariance_;  // r16f, 1x1, zero
 };

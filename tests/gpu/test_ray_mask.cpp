@@ -360,8 +360,8 @@ TEST(RayMask, ReportsEveryPassTime) {
       times[i].second.push_back(result.passMs[i].second);
     }
   }
-  // clear, edges, tiles, dilate, far rows and columns, spread, rays, indirect, readback
-  EXPECT_EQ(times.size(), 10u);
+  // clear, edges, tiles, dilate, far rows and columns, spread, columns, rays, indirect, readback
+  EXPECT_EQ(times.size(), 11u);
   double total = 0.0;
   std::printf("builtin:dof %ux%u f/1.4, median of %d frames:\n", kWidth, kHeight, kFrames);
   for (auto& [name, ms] : times) {
