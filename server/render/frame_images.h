@@ -56,7 +56,8 @@ struct RayMaskImages {
   gpu::Image tiles, dilatedTiles;  // dof_tiles's, on the reach: x the largest
   gpu::Image farRows, farTiles;  // r16f, per tile: ray_mask_far.comp's two passes
   gpu::Image spread;  // rgba16f: the row pass of the disc dilation (half height, strength, |CoC|)
-  gpu::Image covered;  // rg16f: the column pass (strongest edge or -1, its sharper side's |CoC|)
+  // rg16f: the column pass (strongest edge or -1, its sharper side's |CoC|); made by FrameImages.
+  gpu::Image covered;
   gpu::Image rays;    // r8ui: rays per pixel, 0 where the post-process is enough
   gpu::Buffer workList;    // shared/ray_work.h: header (dispatch arguments), entries
   gpu::Buffer workHeader;  // the list's header, read back for the frame's stats
