@@ -1,19 +1,19 @@
-// Ray mask (stage 3), ray counts: rays where an edge's disc covers the pixel (ray_mask_columns.comp)
-// or where the ray-traced output is noisy, at least 1 and at most the frame's samples per pixel: as
-// many as the strongest edge asks for while the pixel is new to the mask, then as many as the
-// variance of its rays asks for (settled, quiet pixels keep a ray or two a frame, enough for their
-// history to go on; on a still view out of focus, a pixel counts as noisy as its noisiest settled
-// neighbour). Rays by CoC: where every edge that reaches the pixel is blurred on both sides, what
-// its rays see varies slowly across the image, and the spatial reconstruction fills in from the
-// neighbours: the rays fall with the area of the sharper side's blur beyond kRayMaskDenseCoc, in
-// motion (of the camera or the lens: a focus pull) and over a view's first frames; once camera and
-// lens have rested kStillRasterFrames frames, a settled pixel's rays follow its variance alone, so
-// that a resting view keeps converging as fast, and a pixel the composite trusts gets them all.
-// Then the tile's pixels with rays are appended to the work list together (one atomic per
-// workgroup and counter; a ballot gives each lane its slot among its subgroup's), so that the
-// tracer's subgroups, which take consecutive entries, trace neighbouring pixels: measured 6% faster
-// than one atomic per subgroup, whose tiles interleave in the list as the device's threads run them
-// side by side.
+// Ray mask (stage 3), ray counts: rays where an edge's disc covers the pixel
+// (ray_mask_columns.comp) or where the ray-traced output is noisy, at least 1 and at most the
+// frame's samples per pixel: as many as the strongest edge asks for while the pixel is new to the
+// mask, then as many as the variance of its rays asks for (settled, quiet pixels keep a ray or two
+// a frame, enough for their history to go on; on a still view out of focus, a pixel counts as
+// noisy as its noisiest settled neighbour). Rays by CoC: where every edge that reaches the pixel
+// is blurred on both sides, what its rays see varies slowly across the image, and the spatial
+// reconstruction fills in from the neighbours: the rays fall with the area of the sharper side's
+// blur beyond kRayMaskDenseCoc, in motion (of the camera or the lens: a focus pull) and over a
+// view's first frames; once camera and lens have rested kStillRasterFrames frames, a settled
+// pixel's rays follow its variance alone, so that a resting view keeps converging as fast, and a
+// pixel the composite trusts gets them all. Then the tile's pixels with rays are appended to the
+// work list together (one atomic per workgroup and counter; a ballot gives each lane its slot
+// among its subgroup's), so that the tracer's subgroups, which take consecutive entries, trace
+// neighbouring pixels: measured 6% faster than one atomic per subgroup, whose tiles interleave in
+// the list as the device's threads run them side by side.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
