@@ -143,27 +143,44 @@ TEST(PostProcess, InFocusWallStaysSharp) {
   EXPECT_GE(compareImages(frame.blurred, frame.sharp).psnrDb, 45.0);
 }
 
+// builtin:wall, square-on 3 m away, through lenses focused nearer so that the wall's CoC is a
+// given size, and its thin-lens references.
+class WallOutOfFocus {
+ public:
+  static constexpr uint32_t kWidth = 320, kHeight = 180;
+
+  WallOutOfFocus() { rig.render(Lens{50.0f, 1.4f, 3.0f}); }  // for the frame uniforms
+
+  Lens lens(float coc) const {
+    Lens lens{50.0f, 1.4f, 3.0f};
+    lens.focusDistance =
+        1.0f / (1.0f / 3.0f + coc / (lens.apertureDiameter() * rig.uniforms.focalLengthPixels));
+    return lens;
+  }
+
+  static ImageRgba8 reference(const Lens& lens, uint32_t raysPerPixel) {
+    RenderSpec spec;
+    spec.scene = "builtin:wall";
+    spec.width = kWidth;
+    spec.height = kHeight;
+    spec.lens = lens;
+    spec.mode = RenderMode::Reference;
+    spec.raysPerPixel = raysPerPixel;
+    return renderImage(spec);
+  }
+
+  PostProcessRig rig{"builtin:wall", kWidth, kHeight};
+};
+
 // A surface just out of focus (a CoC under a pixel or two) is softer than the raster already: a
 // pixel's neighbours take a third of it at a 1 px CoC. The post-process's first frame shows that
 // softness, not the raster's sharp colour.
 TEST(PostProcess, ASurfaceJustOutOfFocusIsAsSoftAsTheLensMakesIt) {
-  constexpr uint32_t kWallWidth = 320, kWallHeight = 180;
-  PostProcessRig rig("builtin:wall", kWallWidth, kWallHeight);
-  rig.render(Lens{50.0f, 1.4f, 3.0f});
+  WallOutOfFocus wall;
   for (float coc : {0.5f, 1.0f, 2.0f}) {
-    // The wall stands square-on 3 m away: focused nearer, so that the wall's CoC is coc.
-    Lens lens{50.0f, 1.4f, 3.0f};
-    lens.focusDistance =
-        1.0f / (1.0f / 3.0f + coc / (lens.apertureDiameter() * rig.uniforms.focalLengthPixels));
-    PostProcessRig::Frame frame = rig.render(lens);
-    RenderSpec spec;
-    spec.scene = "builtin:wall";
-    spec.width = kWallWidth;
-    spec.height = kWallHeight;
-    spec.lens = lens;
-    spec.mode = RenderMode::Reference;
-    spec.raysPerPixel = 64;
-    ImageRgba8 reference = renderImage(spec);
+    Lens lens = wall.lens(coc);
+    PostProcessRig::Frame frame = wall.rig.render(lens);
+    ImageRgba8 reference = WallOutOfFocus::reference(lens, 64);
     double sharp = compareImages(frame.sharp, reference).psnrDb;
     double blurred = compareImages(frame.blurred, reference).psnrDb;
     std::printf("CoC %.1f px: the raster %.2f dB, the post-process %.2f dB\n", coc, sharp, blurred);
@@ -175,22 +192,11 @@ TEST(PostProcess, ASurfaceJustOutOfFocusIsAsSoftAsTheLensMakesIt) {
 // rays), a blur under 3 px adds the lens's disc and no second box: after a still view's 16
 // frames a wall just out of focus is as sharp as the reference, not softer.
 TEST(PostProcess, AStillViewJustOutOfFocusConvergesToTheLensBlur) {
-  constexpr uint32_t kWallWidth = 320, kWallHeight = 180;
-  PostProcessRig rig("builtin:wall", kWallWidth, kWallHeight);
-  rig.render(Lens{50.0f, 1.4f, 3.0f});
+  WallOutOfFocus wall;
   for (float coc : {1.0f, 2.0f}) {
-    Lens lens{50.0f, 1.4f, 3.0f};
-    lens.focusDistance =
-        1.0f / (1.0f / 3.0f + coc / (lens.apertureDiameter() * rig.uniforms.focalLengthPixels));
-    PostProcessRig::Frame still = rig.render(lens, 16);
-    RenderSpec spec;
-    spec.scene = "builtin:wall";
-    spec.width = kWallWidth;
-    spec.height = kWallHeight;
-    spec.lens = lens;
-    spec.mode = RenderMode::Reference;
-    spec.raysPerPixel = 256;
-    double psnr = compareImages(still.blurred, renderImage(spec)).psnrDb;
+    Lens lens = wall.lens(coc);
+    PostProcessRig::Frame still = wall.rig.render(lens, 16);
+    double psnr = compareImages(still.blurred, WallOutOfFocus::reference(lens, 256)).psnrDb;
     std::printf("CoC %.1f px: the post-process after 16 frames %.2f dB\n", coc, psnr);
     // With the disc integrated over pixel cells, which counts the box twice more: 43.3 and 42.9 dB.
     EXPECT_GE(psnr, 45.0) << "CoC " << coc;
