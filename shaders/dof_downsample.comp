@@ -24,10 +24,11 @@ layout(set = 1, binding = 2, rgba32f) uniform readonly image2D normalDepth;
 layout(set = 1, binding = 3, rgba16f) uniform writeonly image2D colorCoc;  // a: CoC
 layout(set = 1, binding = 4, rgba16f) uniform writeonly image2D halfColorCoc;  // a: CoC
 
-// The block's pixels in the 4x4 window around it, and the offsets in the window to a pixel's left,
-// right, upper and lower neighbour.
+// The block's pixels in the 4x4 window around it, and the offsets in the window (and in the
+// image) to a pixel's left, right, upper and lower neighbour.
 const int kBlock[4] = int[4](5, 6, 9, 10);
 const int kBeside[4] = int[4](-1, 1, -4, 4);
+const ivec2 kBesideStep[4] = ivec2[4](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
 
 // How much of a pixel's colour (own) is the near-field surface beside it (front) rather than what
 // lies behind (back: the pixel on its other side), the pixel taken as their mix; none where the
@@ -65,26 +66,24 @@ void main() {
       nearBeside = nearBeside || wideNearBlurInFront(around[j + kBeside[k]], around[j]);
   }
   SKIPPABLE_IF(nearBeside) {
-    vec3 ring[16];
-    [[unroll]] for (int j = 0; j < 16; ++j) {
-      ivec2 inBlock = ivec2(j % 4, j / 4) - 1;
-      if ((inBlock.x == -1 || inBlock.x == 2) && (inBlock.y == -1 || inBlock.y == 2)) continue;
-      ring[j] = imageLoad(color, clamp(pixel * 2 + inBlock, ivec2(0), size - 1)).rgb;
-    }
     [[unroll]] for (int i = 0; i < 4; ++i) {
-      // The nearest such neighbour, and the pixel on the pixel's other side.
+      // The nearest such neighbour, and the pixel on the pixel's other side: only their two
+      // colours are loaded (a load per lane, where any lane has such a neighbour).
       int j = kBlock[i];
       float nearestInFront = around[j];
-      vec3 front = vec3(0.0), back = vec3(0.0);
+      ivec2 toFront = ivec2(0);
       [[unroll]] for (int k = 0; k < 4; ++k) {
         float other = around[j + kBeside[k]];
         bool nearer = wideNearBlurInFront(other, around[j]) && other < nearestInFront;
         nearestInFront = nearer ? other : nearestInFront;
-        front = nearer ? ring[j + kBeside[k]] : front;
-        back = nearer ? ring[j - kBeside[k]] : back;
+        toFront = nearer ? kBesideStep[k] : toFront;
       }
-      if (nearestInFront < around[j])
+      if (nearestInFront < around[j]) {
+        ivec2 source = pixel * 2 + ivec2(i & 1, i >> 1);
+        vec3 front = imageLoad(color, clamp(source + toFront, ivec2(0), size - 1)).rgb;
+        vec3 back = imageLoad(color, clamp(source - toFront, ivec2(0), size - 1)).rgb;
         colors[i] = max(colors[i] + frontShare(colors[i], front, back) * (back - front), 0.0);
+      }
     }
   }
   float cocs[4];
