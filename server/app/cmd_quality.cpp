@@ -190,7 +190,7 @@ int runQuality(std::span<const std::string> args) {
   parser.option("--out", "DIR", "folder for the images and the region masks (default out/quality)",
                 &outDir);
   parser.option("--reference-spp", "N",
-                "reference rays per pixel; default: doubled from 16 until converged",
+                "reference rays per pixel; default: doubled from 16 until converged, at least 256",
                 &referenceOptions.fixedRays);
   parser.option("--max-reference-spp", "N", "most reference rays per pixel (default 1024)",
                 &referenceOptions.maxRays);

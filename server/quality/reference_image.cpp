@@ -49,7 +49,7 @@ ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest re
     result.lastStepRegionDb =
         options.region ? compareImages(previous, current, options.region).psnrDb : 0.0;
     previous = std::move(current);
-    if (result.lastStepDb >= options.targetDb &&
+    if (rays >= options.minRays && result.lastStepDb >= options.targetDb &&
         (!options.region || result.lastStepRegionDb >= options.targetDb)) {
       result.converged = true;
       break;

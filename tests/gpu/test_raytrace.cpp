@@ -1,6 +1,7 @@
-// The raytrace mode converges towards the reference while the camera rests; the partial-occlusion
-// region comes from real depth edges.
+// The raytrace mode converges towards the reference while the camera rests; the reference traces
+// at least its minimum of rays; the partial-occlusion region comes from real depth edges.
 #include "quality/occlusion_mask.h"
+#include "quality/reference_image.h"
 #include "render_fixture.h"
 
 #include <gtest/gtest.h>
@@ -28,6 +29,24 @@ TEST(RayTrace, ApproachesTheReferenceAsFramesAccumulate) {
     previous = psnr;
   }
   EXPECT_GT(previous, 30.0);
+}
+
+// Two counts of the reference's low-discrepancy rays can agree long before either is near the
+// limit: the convergence test only stops the doubling from minRays on, or at maxRays if fewer.
+TEST(ConvergedReference, TracesAtLeastItsMinimumOfRays) {
+  RenderSpec spec;
+  spec.width = 32;
+  spec.height = 18;
+  spec.mode = RenderMode::Reference;
+  auto pipeline = renderFirstFrame(spec);
+  FrameRequest request = requestFor(spec, testScene(spec.scene).scene);
+  ReferenceOptions options;
+  options.targetDb = 11.0;  // met by any two counts
+  ReferenceImage reference = renderConvergedReference(*pipeline, request, options);
+  EXPECT_TRUE(reference.converged);
+  EXPECT_EQ(reference.rays, options.minRays);
+  options.maxRays = 64;
+  EXPECT_EQ(renderConvergedReference(*pipeline, request, options).rays, 64u);
 }
 
 // A ray that passes a point light on its way to a surface sees that surface with the light
