@@ -1,5 +1,6 @@
 #include "quality/reference_image.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace hdof {
@@ -49,7 +50,8 @@ ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest re
     result.lastStepRegionDb =
         options.region ? compareImages(previous, current, options.region).psnrDb : 0.0;
     previous = std::move(current);
-    if (rays >= options.minRays && result.lastStepDb >= options.targetDb &&
+    if (rays >= std::min(options.minRays, options.maxRays) &&
+        result.lastStepDb >= options.targetDb &&
         (!options.region || result.lastStepRegionDb >= options.targetDb)) {
       result.converged = true;
       break;
