@@ -363,7 +363,9 @@ int runQuality(std::span<const std::string> args) {
     else
       out["reference"] = {{"rays_per_pixel", reference.rays},
                           {"last_step_psnr_db", reference.lastStepDb},
-                          {"last_step_region_psnr_db", reference.lastStepRegionDb},
+                          {"last_step_region_psnr_db",
+                           reference.measuredRegion ? nlohmann::json(reference.lastStepRegionDb)
+                                                    : nlohmann::json(nullptr)},
                           {"converged", reference.converged},
                           {"verdict", reference.verdict()}};
     out["occlusion_pixels"] = regions.occlusionPixels;

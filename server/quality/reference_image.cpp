@@ -9,13 +9,16 @@ std::string ReferenceImage::verdict() const {
   char text[256];
   if (lastStepDb == 0.0)
     std::snprintf(text, sizeof(text), "%u rays per pixel, as asked (no convergence test)", rays);
-  else
+  else {
+    char region[64] = "";
+    if (measuredRegion)
+      std::snprintf(region, sizeof(region), " (%.1f dB in the occlusion region)", lastStepRegionDb);
     std::snprintf(text, sizeof(text),
-                  "%u rays per pixel; the image at %u rays differs from it by PSNR %.1f dB "
-                  "(%.1f dB in the occlusion region), %s",
-                  rays, rays / 2, lastStepDb, lastStepRegionDb,
+                  "%u rays per pixel; the image at %u rays differs from it by PSNR %.1f dB%s, %s",
+                  rays, rays / 2, lastStepDb, region,
                   converged ? "so it is converged to about that level"
                             : "short of the target: raise --max-reference-spp");
+  }
   return text;
 }
 
@@ -47,6 +50,7 @@ ReferenceImage renderConvergedReference(FramePipeline& pipeline, FrameRequest re
     rays *= 2;
     ImageRgba8 current = pipeline.image();
     result.lastStepDb = compareImages(previous, current).psnrDb;
+    result.measuredRegion = options.region != nullptr;
     result.lastStepRegionDb =
         options.region ? compareImages(previous, current, options.region).psnrDb : 0.0;
     previous = std::move(current);

@@ -25,7 +25,8 @@ struct ReferenceImage {
   ImageRgba8 image;
   uint32_t rays = 0;
   double lastStepDb = 0.0;        // PSNR between the images at rays and rays/2 (0 when fixed)
-  double lastStepRegionDb = 0.0;  // the same inside options.region (0 without one)
+  double lastStepRegionDb = 0.0;  // the same inside options.region
+  bool measuredRegion = false;    // whether there was a region (else lastStepRegionDb is 0)
   bool converged = false;
   double gpuMs = 0.0;
   // One sentence on how convergence was decided, for the user.

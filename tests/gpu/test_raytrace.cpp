@@ -45,6 +45,8 @@ TEST(ConvergedReference, TracesAtLeastItsMinimumOfRays) {
   ReferenceImage reference = renderConvergedReference(*pipeline, request, options);
   EXPECT_TRUE(reference.converged);
   EXPECT_EQ(reference.rays, options.minRays);
+  EXPECT_EQ(reference.verdict().find("occlusion region"), std::string::npos)
+      << "no region was given: " << reference.verdict();
   options.maxRays = 64;
   reference = renderConvergedReference(*pipeline, request, options);
   EXPECT_TRUE(reference.converged);
