@@ -7,7 +7,8 @@
 // with the surface behind it, so a slowly moving background pixel holds stale near colour too;
 // a focus pull moves every blur); luminance moments give the variance that the next frame's ray
 // mask (stage 3) reads, newly traced pixels counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
-// cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history).
+// cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history),
+// or, on a resting view whose pixels take their rays in turns, stands (accumulated in place).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;

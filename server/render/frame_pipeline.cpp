@@ -131,7 +131,7 @@ void FramePipeline::record(VkCommandBuffer cmd, const FrameRequest& request,
         radiance = &im.dof.output;
       }
       if (request.mode == RenderMode::Hybrid) {
-        hybrid_.record(steps, im, request.view, request.traceEverywhere);
+        hybrid_.record(steps, im);
         radiance = &im.hybrid.output;
       }
       break;
@@ -179,7 +179,8 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_, false);
   keepDofTiles_ = needsDof && stands(dofTiles_, true);
-  if (request.mode == RenderMode::Hybrid) hybrid_.startFrame(uniforms, stands(maskEdges_, true));
+  if (request.mode == RenderMode::Hybrid)
+    hybrid_.startFrame(uniforms, stands(maskEdges_, true), request.view, request.traceEverywhere);
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);

@@ -19,16 +19,31 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
       debugView_(context, "debug_view.comp"),
       focusZone_(context, "focus_zone.comp") {}
 
-void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView view,
-                       bool traceEverywhere) const {
+void HybridDof::startFrame(const gpu::FrameUniforms& uniforms, bool maskEdgesStand, DebugView view,
+                           bool traceEverywhere) {
+  stillFrames_ = uniforms.stillFrames;
+  // As hybrid_temporal.comp decides it: the camera moved, or the camera or the lens changed.
+  moved_ = uniforms.previousViewProj != uniforms.viewProj;
+  changed_ = moved_ || uniforms.stillFrames == 0;
+  maskEdgesStand_ = maskEdgesStand;
+  view_ = view;
+  traceEverywhere_ = traceEverywhere;
+  inTurns_ = hasHistory_ && lastDrewFinal_ && view == DebugView::Final &&
+             stillFrames_ >= gpu::kStillRasterFrames;
+}
+
+void HybridDof::record(StepRecorder& steps, const FrameImages& images) const {
   const GBufferImages& g = images.gbuffer;
   const RayMaskImages& m = images.mask;
   const HybridImages& h = images.hybrid;
   const HybridImages::History& previous = h.history[current_];
-  const HybridImages::History& next = h.history[current_ ^ 1u];
+  // A frame in which neither the camera nor the lens changed accumulates in place: the history
+  // it reads is the pixel's own (hybrid_temporal.comp), and pixels not listed keep theirs.
+  const HybridImages::History& next = changed_ ? h.history[current_ ^ 1u] : previous;
 
-  mask_.record(steps, g, m, hasHistory_ ? &h.variance : nullptr,
-               {.edgesStand = maskEdgesStand_, .everywhere = traceEverywhere});
+  mask_.record(
+      steps, g, m, hasHistory_ ? &h.variance : nullptr,
+      {.edgesStand = maskEdgesStand_, .everywhere = traceEverywhere_, .inTurns = inTurns_});
   // The work list starts with a VkDispatchIndirectCommand sized to its entries.
   steps.dispatch(trace_,
                  {{"workList", m.workList},
@@ -41,9 +56,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
   // Pixels the mask left out this frame drop their history: the pass writes listed pixels only,
   // and a pixel's layers are read only where its moments count rays, so zeroing the moments and
   // the variance drops it (the layers' stale values stay unread). Once camera and lens have
-  // rested kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, the
-  // mask leaves none out.
-  if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere) {
+  // rested kStillRasterFrames frames (ray_mask_rays.comp), or when every pixel is traced, every
+  // pixel has rays: those taking turns keep their history between them.
+  if (stillFrames_ < gpu::kStillRasterFrames && !traceEverywhere_) {
     steps.dispatch(historyClear_,
                    {{"rays", m.rays},
                     {"moments", next.moments},
@@ -92,11 +107,12 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                   {"postProcess", images.dof.output},
                   {"outDifference", h.difference}},
                  Grid::indirect(m.workList));
-  if (view == DebugView::Final || view == DebugView::FocusZone) {
-    // The post-process's colour where the mask did not trace; the composite the rest.
-    steps.step("hybrid_composite_copy", [&](VkCommandBuffer cmd) {
-      gpu::copyImage(cmd, images.dof.output, h.output);
-    });
+  if (view_ == DebugView::Final || view_ == DebugView::FocusZone) {
+    // The post-process's colour where the mask did not trace; the composite the rest. Taking
+    // turns, the pixels not listed keep the last frame's colour.
+    if (!inTurns_)
+      steps.step("hybrid_composite_copy",
+                 [&](VkCommandBuffer cmd) { gpu::copyImage(cmd, images.dof.output, h.output); });
     steps.dispatch(composite_,
                    {{"rays", m.rays},
                     {"sharp", g.color},
@@ -118,17 +134,18 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images, DebugView
                     {"historyNear", h.reconstructedNear},
                     {"historyFar", h.reconstructedFar},
                     {"outColor", h.output}},
-                   Grid::over(h.output), static_cast<uint32_t>(view), "hybrid_composite");
+                   Grid::over(h.output), static_cast<uint32_t>(view_), "hybrid_composite");
   }
   // The in-focus zone is drawn over the finished image rather than in place of it.
-  if (view == DebugView::FocusZone)
+  if (view_ == DebugView::FocusZone)
     steps.dispatch(focusZone_, {{"normalDepth", g.normalDepth}, {"color", h.output}},
                    Grid::over(h.output));
 }
 
 void HybridDof::advance() {
-  current_ ^= 1u;
+  if (changed_) current_ ^= 1u;
   hasHistory_ = true;
+  lastDrewFinal_ = view_ == DebugView::Final;
 }
 
 }  // namespace hdof

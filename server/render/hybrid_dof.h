@@ -22,23 +22,16 @@ class HybridDof {
     stillFrames_ = 0;
   }
   // Reads images.gbuffer and images.dof.output; writes images.mask and images.hybrid, the frame
-  // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays. view
-  // other than Final draws that debug view instead of the composite (FocusZone over it).
-  // traceEverywhere: a full
-  // mask (every pixel gets the full rays). startFrame() before record(): the frame's uniforms
-  // (how many frames the camera and lens have rested before this one, so that the history may
-  // average over a longer window; whether they changed) and whether the ray mask's edges from
-  // the last hybrid frame stand (G-buffer and lens unchanged). advance(): once the frame is
-  // submitted.
-  void record(StepRecorder& steps, const FrameImages& images, DebugView view = DebugView::Final,
-              bool traceEverywhere = false) const;
-  void startFrame(const gpu::FrameUniforms& uniforms, bool maskEdgesStand) {
-    stillFrames_ = uniforms.stillFrames;
-    // As hybrid_temporal.comp decides it: the camera moved, or the camera or the lens changed.
-    moved_ = uniforms.previousViewProj != uniforms.viewProj;
-    changed_ = moved_ || uniforms.stillFrames == 0;
-    maskEdgesStand_ = maskEdgesStand;
-  }
+  // in images.hybrid.output. The frame uniforms' samples per pixel cap the mask's rays.
+  // startFrame() before record(): the frame's uniforms (how many frames the camera and lens have
+  // rested before this one, so that the history may average over a longer window; whether they
+  // changed), whether the ray mask's edges from the last hybrid frame stand (G-buffer and lens
+  // unchanged), the view (other than Final: that debug view instead of the composite, FocusZone
+  // over it) and traceEverywhere (a full mask: every pixel gets the full rays). advance(): once
+  // the frame is submitted.
+  void startFrame(const gpu::FrameUniforms& uniforms, bool maskEdgesStand, DebugView view,
+                  bool traceEverywhere);
+  void record(StepRecorder& steps, const FrameImages& images) const;
   void advance();
   // The history set the last frame wrote (images.hybrid.history[current()]).
   uint32_t current() const { return current_; }
@@ -57,6 +50,12 @@ class HybridDof {
   bool moved_ = true;         // this frame's camera differs from the last one's
   bool changed_ = true;       // ... or its lens does
   bool maskEdgesStand_ = false;
+  DebugView view_ = DebugView::Final;
+  bool traceEverywhere_ = false;
+  bool lastDrewFinal_ = false;  // the last frame's output is the composite over every pixel
+  // A resting view after such a frame: pixels take their rays in turns (ray_mask_rays.comp), and
+  // those not listed keep their history and their last colour.
+  bool inTurns_ = false;
 };
 
 }  // namespace hdof

@@ -57,14 +57,16 @@ void RayMask::record(StepRecorder& steps, const GBufferImages& g, const RayMaskI
                     {"covered", m.covered}},
                    Grid::over(m.covered));
   }
-  uint32_t everywhereFlag = options.everywhere ? 1u : 0u;
+  struct {
+    uint32_t everywhere, inTurns;
+  } raysPush{options.everywhere ? 1u : 0u, options.inTurns ? 1u : 0u};
   steps.dispatch(rays_,
                  {{"covered", m.covered},
                   {"variance", varianceOrNull ? *varianceOrNull : noVariance_},
                   {"rays", m.rays},
                   {"workList", m.workList},
                   {"normalDepth", g.normalDepth}},
-                 Grid::over(m.rays), everywhereFlag);
+                 Grid::over(m.rays), raysPush);
   // The count is final only once every workgroup has appended.
   steps.dispatch(indirect_, {{"workList", m.workList}}, Grid::threads(1));
   steps.step("ray_mask_readback", [&](VkCommandBuffer cmd) {

@@ -21,6 +21,9 @@ struct RayMaskOptions {
   // only the steps from the rays on run.
   bool edgesStand = false;
   bool everywhere = false;  // every pixel gets the full rays
+  // A resting pixel of one ray a frame takes its rays in turns (ray_mask_rays.comp): only for a
+  // frame whose consumers keep the last frame's values where a pixel is not listed.
+  bool inTurns = false;
 };
 
 class RayMask {

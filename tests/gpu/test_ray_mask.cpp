@@ -1,8 +1,8 @@
 // The adaptive ray mask: nothing on an in-focus wall; rays by the variance of a pixel's rays, out
-// of focus by its noisiest neighbour's too; on the depth-of-field scene, rays along the blurred
-// foreground's silhouettes only, fewer as the aperture closes, fewer per pixel where both sides of
-// an edge are blurred (rays by CoC); the work list holds exactly the pixels with rays, with
-// dispatch arguments for them.
+// of focus by its noisiest neighbour's too; at rest, trusted quiet pixels in turns; on the
+// depth-of-field scene, rays along the blurred foreground's silhouettes only, fewer as the
+// aperture closes, fewer per pixel where both sides of an edge are blurred (rays by CoC); the
+// work list holds exactly the pixels with rays, with dispatch arguments for them.
 #include "render/gbuffer_pass.h"
 #include "render/ray_mask.h"
 #include "render_fixture.h"
@@ -55,7 +55,7 @@ class RayMaskRig {
   // lens.focusDistance 0: the scene camera's suggestion. rasterSample > 0: a resting view's;
   // stillFrames: how long camera and lens have rested.
   Frame render(Lens lens, const gpu::Image* variance = nullptr, uint32_t rasterSample = 0,
-               uint32_t stillFrames = 0) {
+               uint32_t stillFrames = 0, RayMaskOptions options = {}) {
     gpu::FrameUniforms uniforms = uniformsFor(lens);
     uniforms.stillFrames = stillFrames;
     // A resting view's raster has its first sample (the pixel centre's depth and normals) before
@@ -72,7 +72,7 @@ class RayMaskRig {
     testContext().submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
       StepRecorder steps(cmd, timer_, uniformBuffer_, *scene_.gpu);
-      mask_.record(steps, images_.gbuffer, images_.mask, variance);
+      mask_.record(steps, images_.gbuffer, images_.mask, variance, options);
     });
     Frame frame;
     frame.passMs = timer_.results();
@@ -156,6 +156,29 @@ void expectListMatchesMask(const RayMaskRig::Frame& frame, uint32_t width) {
   for (uint8_t rays : frame.rays) EXPECT_LE(rays, kSamplesPerPixel);
 }
 
+// A variance image as hybrid_temporal.comp writes it (rg: one ray's variance, rays accumulated),
+// every pixel alike.
+class FlatVariance {
+ public:
+  FlatVariance(uint32_t width, uint32_t height)
+      : batch_(testContext()),
+        image_(batch_.make(width, height, VK_FORMAT_R32G32_SFLOAT, "test variance")) {
+    batch_.finish();
+  }
+  const gpu::Image* set(float variance, float raysAccumulated) {
+    testContext().submitAndWait([&](VkCommandBuffer cmd) {
+      VkClearColorValue value{{variance, raysAccumulated, 0.0f, 0.0f}};
+      VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdClearColorImage(cmd, image_.get(), VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
+    });
+    return &image_;
+  }
+
+ private:
+  gpu::ImageBatch batch_;
+  gpu::Image image_;
+};
+
 TEST(RayMask, InFocusWallNeedsNoRays) {
   RayMaskRig rig("builtin:wall", 321, 181);
   RayMaskRig::Frame frame = rig.render(Lens{50.0f, 1.4f, 3.0f});
@@ -171,29 +194,61 @@ TEST(RayMask, InFocusWallNeedsNoRays) {
 TEST(RayMask, NoisyPixelsGetRaysByTheirVarianceAndTrustedOnesAllAtRest) {
   constexpr uint32_t kW = 64, kH = 48;
   RayMaskRig rig("builtin:wall", kW, kH);
-  gpu::ImageBatch batch(testContext());
-  gpu::Image variance = batch.make(kW, kH, VK_FORMAT_R32G32_SFLOAT, "test variance");
-  batch.finish();
+  FlatVariance flat(kW, kH);
   // Halfway between the variance that turns rays on and the one that asks for all of them.
-  auto setVariance = [&](float raysAccumulated) {
-    testContext().submitAndWait([&](VkCommandBuffer cmd) {
-      VkClearColorValue value{{0.5f * gpu::kRayMaskVarianceFull, raysAccumulated, 0.0f, 0.0f}};
-      VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      vkCmdClearColorImage(cmd, variance.get(), VK_IMAGE_LAYOUT_GENERAL, &value, 1, &range);
-    });
-  };
+  const float noise = 0.5f * gpu::kRayMaskVarianceFull;
   const Lens lens{50.0f, 1.4f, 3.0f};
-  setVariance(gpu::kHybridTrustedRays);
-  RayMaskRig::Frame frame = rig.render(lens, &variance, 1, gpu::kStillRasterFrames - 1);
+  const gpu::Image* variance = flat.set(noise, gpu::kHybridTrustedRays);
+  RayMaskRig::Frame frame = rig.render(lens, variance, 1, gpu::kStillRasterFrames - 1);
   EXPECT_EQ(frame.coverage, 1.0);
   for (uint8_t rays : frame.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
   expectListMatchesMask(frame, rig.width());
-  RayMaskRig::Frame resting = rig.render(lens, &variance, 1, gpu::kStillRasterFrames);
+  RayMaskRig::Frame resting = rig.render(lens, variance, 1, gpu::kStillRasterFrames);
   EXPECT_EQ(resting.coverage, 1.0);
   for (uint8_t rays : resting.rays) ASSERT_EQ(rays, kSamplesPerPixel);
-  setVariance(gpu::kHybridTrustedRays - 1.0f);
-  RayMaskRig::Frame untrusted = rig.render(lens, &variance, 1, gpu::kStillRasterFrames);
+  variance = flat.set(noise, gpu::kHybridTrustedRays - 1.0f);
+  RayMaskRig::Frame untrusted = rig.render(lens, variance, 1, gpu::kStillRasterFrames);
   for (uint8_t rays : untrusted.rays) ASSERT_EQ(rays, kSamplesPerPixel / 2);
+}
+
+// At rest, a quiet pixel that the composite shows as traced alone takes its rays in turns when
+// the frame allows it: four rays every fourth frame, by 8x8 tiles, one tile of each 2x2 tiles a
+// frame, every pixel once in four frames. Others, and every pixel when turns are not allowed,
+// get a ray a frame.
+TEST(RayMask, TrustedQuietPixelsAtRestTakeTheirRaysInTurns) {
+  constexpr uint32_t kW = 64, kH = 48;
+  RayMaskRig rig("builtin:wall", kW, kH);
+  FlatVariance flat(kW, kH);
+  const Lens lens{50.0f, 1.4f, 3.0f};
+  const RayMaskOptions inTurns{.inTurns = true};
+  const gpu::Image* variance = flat.set(0.0f, gpu::kHybridTrustedRays);
+  std::vector<int> timesListed(kW * kH, 0);
+  for (uint32_t turn = 0; turn < 4; ++turn) {
+    RayMaskRig::Frame frame =
+        rig.render(lens, variance, 1, gpu::kStillRasterFrames + turn, inTurns);
+    for (uint8_t rays : frame.rays) ASSERT_EQ(rays, 4u);
+    EXPECT_EQ(frame.header.count, kW * kH / 4);
+    EXPECT_EQ(frame.header.rays, kW * kH);
+    std::vector<int> perTile(kW * kH / 64, 0), perBlock(kW * kH / 256, 0);
+    for (const glm::uvec2& entry : frame.entries) {
+      glm::uvec2 pixel = gpu::unpackRayWorkPixel(entry.x);
+      EXPECT_EQ(entry.y, 4u);
+      ++timesListed[pixel.y * kW + pixel.x];
+      ++perTile[pixel.y / 8 * (kW / 8) + pixel.x / 8];
+      ++perBlock[pixel.y / 16 * (kW / 16) + pixel.x / 16];
+    }
+    for (int listed : perTile) ASSERT_TRUE(listed == 0 || listed == 64) << listed;
+    for (int listed : perBlock) ASSERT_EQ(listed, 64);
+  }
+  for (int listed : timesListed) ASSERT_EQ(listed, 1);
+  // Not allowed, or not trusted yet: a ray a frame, every pixel listed.
+  RayMaskRig::Frame everyFrame = rig.render(lens, variance, 1, gpu::kStillRasterFrames);
+  for (uint8_t rays : everyFrame.rays) ASSERT_EQ(rays, 1u);
+  expectListMatchesMask(everyFrame, rig.width());
+  variance = flat.set(0.0f, gpu::kHybridTrustedRays - 1.0f);
+  RayMaskRig::Frame young = rig.render(lens, variance, 1, gpu::kStillRasterFrames, inTurns);
+  for (uint8_t rays : young.rays) ASSERT_EQ(rays, 1u);
+  expectListMatchesMask(young, rig.width());
 }
 
 // On a still view out of focus, a settled pixel counts as noisy as its noisiest settled neighbour:
