@@ -30,8 +30,12 @@ void addLensOptions(ArgParser& parser, LensOptions& options) {
                     " (default full-frame, 36x24); the image is the largest rectangle of its "
                     "aspect on the sensor",
                 &options.sensor);
+  // The command's own default (hdof quality measures wide open).
+  char defaultFNumber[32];
+  std::snprintf(defaultFNumber, sizeof defaultFNumber, "%g", double(options.fNumber));
   parser.option("--f-number", "N",
-                "aperture f-number, at least 0.5 (default 2.8; 1e6 is a pinhole)",
+                std::string("aperture f-number, at least 0.5 (default ") + defaultFNumber +
+                    "; 1e6 is a pinhole)",
                 &options.fNumber);
   parser.option("--focus-distance", "M",
                 "focus distance in metres (default: the camera's, else the surface at the centre)",

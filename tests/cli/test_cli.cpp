@@ -294,6 +294,10 @@ TEST(Cli, HelpListsCommandsAndOptions) {
   for (const char* option : {"--scene", "--camera", "--mode", "--spp", "--size", "--focal-length",
                              "--sensor", "--f-number", "--focus-distance", "--no-pixel-jitter", "--out"})
     EXPECT_NE(render.stdoutText.find(option), std::string::npos) << option;
+  // Each command's help gives its own default aperture.
+  EXPECT_NE(render.stdoutText.find("(default 2.8;"), std::string::npos) << render.stdoutText;
+  Result quality = runHdof("quality --help");
+  EXPECT_NE(quality.stdoutText.find("(default 1.4;"), std::string::npos) << quality.stdoutText;
   EXPECT_EQ(runHdof("").exitCode, 2);
 }
 
