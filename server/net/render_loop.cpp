@@ -5,6 +5,7 @@
 #include "render/focus_pick.h"
 
 #include <malloc.h>
+#include <algorithm>
 
 namespace hdof::net {
 namespace {
@@ -218,6 +219,10 @@ void RenderLoop::loop() {
     lastServed_ = id;
     if (auto cost = movingMsPerPixel_.find(session.state.mode()); cost != movingMsPerPixel_.end())
       session.state.seedCost(cost->second);  // until the session has measured its own
+    session.state.shareDevice(
+        uint32_t(std::count_if(sessions_.begin(), sessions_.end(), [](const auto& entry) {
+          return !entry.second.removed && entry.second.state.drawing();
+        })));
     FramePlan plan = session.state.startFrame(now, pickFocus);
     uint64_t coalesced = session.state.inputsCoalesced();
     metrics_.inputsCoalesced(coalesced - session.coalescedReported);

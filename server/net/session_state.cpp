@@ -65,7 +65,7 @@ float SessionState::interactiveScale() {
                       : seededMsPerPixel_ > 0.0 ? seededMsPerPixel_
                                                 : stillMsPerPixel_;
   if (defaults_.targetFps <= 0.0 || msPerPixel <= 0.0) return 1.0f;
-  double budgetMs = 1000.0 / defaults_.targetFps;
+  double budgetMs = frameBudgetMs();
   float down = fittingScale(msPerPixel, budgetMs);
   float up = fittingScale(msPerPixel, kScaleUpMargin * budgetMs);
   if (down < movingScale_)
@@ -78,7 +78,7 @@ float SessionState::interactiveScale() {
 float SessionState::lensOnlyScale() const {
   double msPerPixel = lensMsPerPixel_ > 0.0 ? lensMsPerPixel_ : restingMsPerPixel_;
   if (defaults_.targetFps <= 0.0 || msPerPixel <= 0.0) return lastFrameScale_;
-  double budgetMs = 1000.0 / defaults_.targetFps;
+  double budgetMs = frameBudgetMs();
   // A smaller size draws the raster again (and gathers its samples anew): worth it only for an
   // overrun that makes the pull stutter.
   if (fittingScale(msPerPixel, kLensOverrun * budgetMs) >= lastFrameScale_) return lastFrameScale_;
@@ -196,11 +196,16 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
   return std::nullopt;
 }
 
+bool SessionState::changing() const {
+  return changed_ || pull_ || requalify_ || accumulated_ < framesOfAStillView();
+}
+
+bool SessionState::drawing() const { return changing() || lastFrameMoving_; }
+
 std::optional<Clock::time_point> SessionState::nextFrameDue() const {
   if (sendBlocked_ || inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;
   Clock::time_point earliest = lastFrameStart_ + msDuration(1000.0 / stream_.maxFps);
-  bool converged = accumulated_ >= framesOfAStillView();
-  if (changed_ || pull_ || !converged || requalify_) return earliest;
+  if (changing()) return earliest;
   // The view has come to rest after frames at moving quality: one at still quality.
   if (lastFrameMoving_) return std::max(earliest, lastMotion_ + msDuration(defaults_.stillAfterMs));
   return std::nullopt;

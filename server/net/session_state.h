@@ -6,12 +6,14 @@
 // than max_fps. Otherwise the session idles. Only frames sent can be acked: a frame counts as
 // sent when the server has written it to the connection (frameSent). While the view moves, frames
 // render at a lower scale when that is what holds target_fps (interactive resolution, from the
-// render times reported by frameRendered); a resting view renders at full size.
+// render times reported by frameRendered, and with the device's time shared among the sessions
+// that draw frames); a resting view renders at full size.
 #pragma once
 
 #include "net/protocol.h"
 #include "render/frame_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <deque>
 #include <functional>
@@ -69,6 +71,9 @@ class SessionState {
   // When the next frame may start, or nothing while the session idles (a message or an ack
   // may change that).
   std::optional<Clock::time_point> nextFrameDue() const;
+  // Whether the session has frames to draw, flow control aside (a change, an accumulation, the
+  // still frame after motion): it takes its turns on the device.
+  bool drawing() const;
   // Takes what the next frame renders; the frame counts as in flight until acked or dropped.
   FramePlan startFrame(Clock::time_point now, const FocusPicker& pickFocus);
   // A started frame that will never be sent (its encode failed, it was dropped from a full queue).
@@ -82,6 +87,9 @@ class SessionState {
   // at a new size, which pass).
   void frameRendered(double renderMs, bool rasterDrawn = false);
   void seedCost(double msPerPixel);
+  // The sessions drawing frames (this one included), served in turns by one device: a moving
+  // frame's budget is this share of 1 / target_fps, so that each of them holds target_fps.
+  void shareDevice(uint32_t sessions) { sharers_ = std::max(sessions, 1u); }
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
   void setSendBlocked(bool blocked) { sendBlocked_ = blocked; }
   bool sendBlocked() const { return sendBlocked_; }
@@ -101,6 +109,9 @@ class SessionState {
  private:
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
   uint32_t framesOfAStillView() const;
+  // A frame is due as soon as flow control allows: a change, a focus pull, a new still quality,
+  // or an accumulation still running.
+  bool changing() const;
   static constexpr uint32_t kRasterRefineFrames = gpu::kStillRasterFrames;
   // The scale (of renderSize) a moving frame renders at: the largest step of kScaleStep, down
   // to kMinScale, whose predicted render time fits 1 / target_fps. It steps up only when the
@@ -113,6 +124,8 @@ class SessionState {
   // overrun 1 / target_fps there by more than kLensOverrun.
   float lensOnlyScale() const;
   static constexpr double kLensOverrun = 1.5;
+  // What a frame may take to hold target_fps with the device's share (shareDevice).
+  double frameBudgetMs() const { return 1000.0 / defaults_.targetFps / sharers_; }
   // The largest step of kScaleStep, down to kMinScale, at which frames costing msPerPixel for each
   // pixel of renderSize fit `ms`.
   float fittingScale(double msPerPixel, double ms) const;
@@ -154,6 +167,7 @@ class SessionState {
   double movingMsPerPixel_ = 0.0, seededMsPerPixel_ = 0.0, stillMsPerPixel_ = 0.0;
   double lensMsPerPixel_ = 0.0, restingMsPerPixel_ = 0.0;
   float movingScale_ = 1.0f;  // the scale of the last moving frame
+  uint32_t sharers_ = 1;      // shareDevice
   uint32_t accumulated_ = 0;
   uint32_t lastFrame_ = 0;  // the last frame started
   uint32_t lastSent_ = 0;   // the newest frame written to the connection

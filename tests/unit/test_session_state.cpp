@@ -325,6 +325,37 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
   EXPECT_EQ(moveFor(12, 0.02), 0.25f) << "down at once";
 }
 
+// Sessions drawing frames take turns on one device: each holds target_fps with its share of the
+// frame time, and a session whose view rests has nothing to draw and takes no share.
+TEST(SessionState, SessionsDrawingShareTheFrameBudget) {
+  SessionDefaults d = defaults(RenderMode::PostProcess);
+  d.targetFps = 20.0;  // 50 ms a frame
+  SessionState s(d, {200, 100});
+  SessionState other(d, {200, 100});
+  EXPECT_TRUE(other.drawing()) << "a new session draws its first frames";
+  for (auto due = other.nextFrameDue(); due; due = other.nextFrameDue()) {
+    EXPECT_TRUE(other.drawing());
+    sentAndAcked(other, other.startFrame(*due, noFocus).frame, *due);
+  }
+  EXPECT_FALSE(other.drawing()) << "its raster refined: nothing more to draw";
+  uint32_t frame = 0;
+  // A moving frame planned while `sharers` sessions draw; every pixel takes 0.004 ms (80 ms at
+  // full size).
+  auto scaleSharing = [&](uint32_t sharers) {
+    auto at = kStart + std::chrono::milliseconds(10 * ++frame);
+    s.apply(camera(frame, float(frame)), at);
+    EXPECT_TRUE(s.drawing());
+    s.shareDevice(sharers);
+    return frameTaking(s, frame, at, 0.004).renderScale;
+  };
+  EXPECT_EQ(scaleSharing(1), 1.0f) << "the first frame: no time known yet";
+  EXPECT_EQ(scaleSharing(1), 0.75f) << "50 ms: 45 ms at 3/4";
+  EXPECT_EQ(scaleSharing(2), 0.5f) << "25 ms: 20 ms at 1/2";
+  EXPECT_EQ(scaleSharing(4), 0.375f) << "12.5 ms: 11.25 ms at 3/8";
+  EXPECT_EQ(scaleSharing(8), 0.25f) << "6.25 ms: never below a quarter";
+  EXPECT_EQ(scaleSharing(0), 0.625f) << "alone again (no count below one): 31 ms at 5/8";
+}
+
 // A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
 // stands and only the DoF steps run: it scales down only when its own frames overrun target_fps by
 // half (a new size draws the raster again), the frames that drew it not counted; the camera's
