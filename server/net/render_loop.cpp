@@ -157,10 +157,11 @@ void RenderLoop::freeRemovedSessions(std::unique_lock<std::mutex>& lock) {
 }
 
 std::map<uint64_t, RenderLoop::Session>::iterator RenderLoop::pickDue(
-    Clock::time_point now, std::optional<Clock::time_point>& nextDue) {
+    Clock::time_point now, bool interactiveOnly, std::optional<Clock::time_point>& nextDue) {
   auto start = sessions_.upper_bound(lastServed_);
   for (size_t i = 0; i < sessions_.size(); ++i, ++start) {
     if (start == sessions_.end()) start = sessions_.begin();
+    if (interactiveOnly && !start->second.state.interactive(now)) continue;
     std::optional<Clock::time_point> due = start->second.state.nextFrameDue();
     if (!due) continue;
     if (*due <= now) return start;
@@ -205,8 +206,14 @@ void RenderLoop::loop() {
     freeRemovedSessions(lock);
     if (stopping_) break;
     Clock::time_point now = Clock::now();
+    // The sessions whose frames answer input take turns on the device, each with its share of
+    // 1 / target_fps (SessionState::shareDevice); the others wait for them.
+    auto interacting =
+        uint32_t(std::count_if(sessions_.begin(), sessions_.end(), [&](const auto& entry) {
+          return !entry.second.removed && entry.second.state.interactive(now);
+        }));
     std::optional<Clock::time_point> nextDue;
-    auto due = pickDue(now, nextDue);
+    auto due = pickDue(now, interacting > 0, nextDue);
     if (due == sessions_.end()) {
       Clock::time_point tick = now + kIdleBeat;
       wake_.wait_until(lock, nextDue ? std::min(*nextDue, tick) : tick);
@@ -219,10 +226,7 @@ void RenderLoop::loop() {
     lastServed_ = id;
     if (auto cost = movingMsPerPixel_.find(session.state.mode()); cost != movingMsPerPixel_.end())
       session.state.seedCost(cost->second);  // until the session has measured its own
-    session.state.shareDevice(
-        uint32_t(std::count_if(sessions_.begin(), sessions_.end(), [](const auto& entry) {
-          return !entry.second.removed && entry.second.state.drawing();
-        })));
+    session.state.shareDevice(interacting);
     FramePlan plan = session.state.startFrame(now, pickFocus);
     uint64_t coalesced = session.state.inputsCoalesced();
     metrics_.inputsCoalesced(coalesced - session.coalescedReported);

@@ -99,7 +99,10 @@ class RenderLoop {
   void beat();
   void freeRemovedSessions(std::unique_lock<std::mutex>& lock);
   // The next session due now (round robin after the last one served), or the time one is due.
-  std::map<uint64_t, Session>::iterator pickDue(Clock::time_point now,
+  // While any session is interactive (SessionState::interactive), only such sessions are: a frame
+  // that refines a resting view (full size, the longest a session renders) waits until no view
+  // moves, where it would hold up every moving session's next frame.
+  std::map<uint64_t, Session>::iterator pickDue(Clock::time_point now, bool interactiveOnly,
                                                 std::optional<Clock::time_point>& nextDue);
   // Renders the plan and hands the frame on; returns its render time (submit to finish) and
   // whether it drew the raster, or nothing when the session failed.

@@ -131,6 +131,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
   auto input = [&](uint32_t seq) {
     seq_ = seq;
     newestInput_ = received;
+    lastInput_ = received;
     changed_ = true;
   };
   if (const auto* camera = std::get_if<CameraMessage>(&message)) {
@@ -179,6 +180,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     // A resting view is shown again at its new quality (a snapshot asks for 100), continuing its
     // accumulation rather than starting it over.
     if (stream_.jpegQualityStill != before.jpegQualityStill) requalify_ = true;
+    lastInput_ = received;
   } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
     // Only what was written to the connection: an ack of a frame the client cannot have seen
     // would open the window for frames that pile up in the daemon.
@@ -200,7 +202,11 @@ bool SessionState::changing() const {
   return changed_ || pull_ || requalify_ || accumulated_ < framesOfAStillView();
 }
 
-bool SessionState::drawing() const { return changing() || lastFrameMoving_; }
+bool SessionState::interactive(Clock::time_point now) const {
+  if (lastFrame_ == 0) return true;  // a new session's first frame
+  bool answering = changed_ || pull_ || requalify_ || lastFrameMoving_;
+  return answering && msBetween(std::max(lastInput_, lastMotion_), now) < kInteractiveMs;
+}
 
 std::optional<Clock::time_point> SessionState::nextFrameDue() const {
   if (sendBlocked_ || inFlight_.size() >= defaults_.maxUnackedFrames) return std::nullopt;

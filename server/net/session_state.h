@@ -6,8 +6,8 @@
 // than max_fps. Otherwise the session idles. Only frames sent can be acked: a frame counts as
 // sent when the server has written it to the connection (frameSent). While the view moves, frames
 // render at a lower scale when that is what holds target_fps (interactive resolution, from the
-// render times reported by frameRendered, and with the device's time shared among the sessions
-// that draw frames); a resting view renders at full size.
+// render times reported by frameRendered, and with the device's time shared among the
+// interactive sessions); a resting view renders at full size.
 #pragma once
 
 #include "net/protocol.h"
@@ -71,9 +71,14 @@ class SessionState {
   // When the next frame may start, or nothing while the session idles (a message or an ack
   // may change that).
   std::optional<Clock::time_point> nextFrameDue() const;
-  // Whether the session has frames to draw, flow control aside (a change, an accumulation, the
-  // still frame after motion): it takes its turns on the device.
-  bool drawing() const;
+  // Whether the session's frames answer input at `now`: its first frame, a change to show (a
+  // move, a focus pull, a new still quality) or, after moving frames, the still frame at rest, its
+  // newest input
+  // within kInteractiveMs (a client that sends a change and then stops acking its frames does not
+  // hold up the others for long). Its other frames refine a resting view (an accumulation), and
+  // wait while any session is interactive (RenderLoop).
+  bool interactive(Clock::time_point now) const;
+  static constexpr double kInteractiveMs = 1000.0;
   // Takes what the next frame renders; the frame counts as in flight until acked or dropped.
   FramePlan startFrame(Clock::time_point now, const FocusPicker& pickFocus);
   // A started frame that will never be sent (its encode failed, it was dropped from a full queue).
@@ -87,7 +92,7 @@ class SessionState {
   // at a new size, which pass).
   void frameRendered(double renderMs, bool rasterDrawn = false);
   void seedCost(double msPerPixel);
-  // The sessions drawing frames (this one included), served in turns by one device: a moving
+  // The interactive sessions (this one included), served in turns by one device: a moving
   // frame's budget is this share of 1 / target_fps, so that each of them holds target_fps.
   void shareDevice(uint32_t sessions) { sharers_ = std::max(sessions, 1u); }
   // While set, no frame is due: the connection's socket is choked or its outgoing list is full.
@@ -154,6 +159,7 @@ class SessionState {
 
   uint32_t seq_ = 0;
   std::optional<Clock::time_point> newestInput_;  // not yet in a frame
+  Clock::time_point lastInput_{};                 // the last message that changed something
   Clock::time_point lastMotion_{};                // the last camera, lens or focus change
   Clock::time_point lastCameraMotion_{};          // the last change of the view framed
   Clock::time_point lastFrameStart_{};

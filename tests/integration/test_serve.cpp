@@ -10,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <thread>
 
 namespace hdof::test {
@@ -338,6 +340,71 @@ TEST(Serve, AFocusChangeOnARestingViewKeepsItsSize) {
   EXPECT_EQ(pulled->header.width, kInteractiveWidth);
   EXPECT_GT(meanAbsoluteDifference(decodeJpeg(s.first->jpeg), decodeJpeg(pulled->jpeg)), 0.1)
       << "the focus moved";
+}
+
+// A frame that refines a resting view (an accumulation) waits while another session moves, whose
+// frames would otherwise wait for it; the refinement goes on once that view rests too.
+TEST(Serve, RefiningFramesWaitWhileAnotherSessionMoves) {
+  // still_after_ms: the moving session stays interactive between its inputs, however slowly
+  // this machine serves them.
+  Daemon daemon(withConfig("raytrace", R"("accumulation_frames": 100000, "still_after_ms": 1000)"));
+  using Clock = std::chrono::steady_clock;
+  auto resting = connectSession(daemon.port());
+  helloAndWelcome(*resting, kWidth, kHeight);
+  std::mutex mutex;
+  std::vector<Clock::time_point> refined;  // when each of the resting session's frames came
+  std::atomic<bool> done = false;
+  std::thread reader([&] {
+    while (!done) {
+      std::optional<Frame> frame = nextFrame(*resting, 100ms);
+      if (!frame) continue;
+      ack(*resting, frame->header.frame);
+      std::lock_guard lock(mutex);
+      refined.push_back(Clock::now());
+    }
+  });
+  auto framesBetween = [&](Clock::time_point from, Clock::time_point to) {
+    std::lock_guard lock(mutex);
+    return std::count_if(refined.begin(), refined.end(),
+                         [&](Clock::time_point t) { return t > from && t < to; });
+  };
+
+  auto moving = connectSession(daemon.port());
+  nlohmann::json welcome = helloAndWelcome(*moving, kWidth, kHeight);
+  std::optional<Frame> first = nextFrame(*moving);
+  ASSERT_TRUE(first) << daemon.log();
+  ack(*moving, first->header.frame);
+  // One of the resting session's frames may be under way when the move starts, and reach the
+  // client a little later.
+  Clock::time_point moveStart = Clock::now();
+  uint32_t seq = 0;
+  int movingFrames = 0;
+  while (Clock::now() < moveStart + 2s) {
+    moving->sendText(cameraMessage(welcome, ++seq, 0.01f * float(seq % 20)).dump());
+    std::optional<Frame> frame = frameApplying(*moving, seq);
+    ASSERT_TRUE(frame) << daemon.log();
+    ++movingFrames;
+  }
+  Clock::time_point moveEnd = Clock::now();
+  long during = framesBetween(moveStart + 500ms, moveEnd);
+  // The moving view's frames go on (it accumulates too) until still_after_ms after its last
+  // input, then one at rest; then the resting view refines again.
+  std::optional<Frame> still;
+  do {
+    still = nextFrame(*moving);
+    ASSERT_TRUE(still) << daemon.log();
+    ack(*moving, still->header.frame);
+  } while (still->stats["moving"].get<bool>());
+  Clock::time_point rested = Clock::now();
+  while (framesBetween(rested, Clock::now()) < 3 && Clock::now() < rested + kTimeout)
+    std::this_thread::sleep_for(50ms);
+  long after = framesBetween(rested, Clock::now());
+  done = true;
+  reader.join();
+  EXPECT_GE(movingFrames, 2);
+  EXPECT_LE(during, 1) << "refining frames while the other session moved (" << movingFrames
+                       << " moving frames)";
+  EXPECT_GE(after, 3) << "the resting view refines once no view moves";
 }
 
 TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {

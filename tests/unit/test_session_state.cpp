@@ -325,26 +325,26 @@ TEST(SessionState, TheMovingScaleStepsUpOnlyWithRoomToSpare) {
   EXPECT_EQ(moveFor(12, 0.02), 0.25f) << "down at once";
 }
 
-// Sessions drawing frames take turns on one device: each holds target_fps with its share of the
-// frame time, and a session whose view rests has nothing to draw and takes no share.
-TEST(SessionState, SessionsDrawingShareTheFrameBudget) {
+// The sessions whose frames answer input take turns on one device: each holds target_fps with
+// its share of the frame time. A session whose frames refine a resting view takes no share (the
+// render loop serves it once no session is interactive), nor does one whose client went quiet
+// with a change still to show (it stopped acking).
+TEST(SessionState, InteractiveSessionsShareTheFrameBudget) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 20.0;  // 50 ms a frame
   SessionState s(d, {200, 100});
   SessionState other(d, {200, 100});
-  EXPECT_TRUE(other.drawing()) << "a new session draws its first frames";
-  for (auto due = other.nextFrameDue(); due; due = other.nextFrameDue()) {
-    EXPECT_TRUE(other.drawing());
-    sentAndAcked(other, other.startFrame(*due, noFocus).frame, *due);
-  }
-  EXPECT_FALSE(other.drawing()) << "its raster refined: nothing more to draw";
+  EXPECT_TRUE(other.interactive(kStart)) << "a new session's first frame";
+  sentAndAcked(other, other.startFrame(kStart, noFocus).frame, kStart);
+  ASSERT_TRUE(other.nextFrameDue()) << "its raster refines the still view";
+  EXPECT_FALSE(other.interactive(kStart)) << "refining frames answer no input";
   uint32_t frame = 0;
-  // A moving frame planned while `sharers` sessions draw; every pixel takes 0.004 ms (80 ms at
-  // full size).
+  // A moving frame planned while `sharers` sessions are interactive; every pixel takes 0.004 ms
+  // (80 ms at full size).
   auto scaleSharing = [&](uint32_t sharers) {
     auto at = kStart + std::chrono::milliseconds(10 * ++frame);
     s.apply(camera(frame, float(frame)), at);
-    EXPECT_TRUE(s.drawing());
+    EXPECT_TRUE(s.interactive(at));
     s.shareDevice(sharers);
     return frameTaking(s, frame, at, 0.004).renderScale;
   };
@@ -354,6 +354,24 @@ TEST(SessionState, SessionsDrawingShareTheFrameBudget) {
   EXPECT_EQ(scaleSharing(4), 0.375f) << "12.5 ms: 11.25 ms at 3/8";
   EXPECT_EQ(scaleSharing(8), 0.25f) << "6.25 ms: never below a quarter";
   EXPECT_EQ(scaleSharing(0), 0.625f) << "alone again (no count below one): 31 ms at 5/8";
+
+  // The view rests: after still_after_ms, the still frame at rest still answers the move.
+  auto rested = kStart + 1s;
+  EXPECT_TRUE(s.interactive(rested));
+  ASSERT_TRUE(dueAt(s, rested));
+  sentAndAcked(s, s.startFrame(rested, noFocus).frame, rested);
+  EXPECT_FALSE(s.interactive(rested));
+
+  // A change whose frames the client never acks (two in flight) stops counting after a while.
+  auto change = rested + 10ms;
+  s.apply(camera(++frame, 5.0f), change);
+  s.startFrame(change, noFocus);
+  s.apply(camera(++frame, 6.0f), change + 10ms);
+  s.startFrame(change + 10ms, noFocus);
+  s.apply(camera(++frame, 7.0f), change + 20ms);
+  EXPECT_FALSE(s.nextFrameDue()) << "two frames unacked";
+  EXPECT_TRUE(s.interactive(change + 500ms));
+  EXPECT_FALSE(s.interactive(change + 1500ms));
 }
 
 // A change of the lens alone (a focus pull) keeps the size of the frame before, where the raster
