@@ -100,11 +100,15 @@ int runLoad(std::span<const std::string> args) {
       "starting view) and acking every frame on receipt, as the browser client does. Prints per\n"
       "session and in total: frames/s, input-to-frame latency p50/p95/p99 (from sending a seq to\n"
       "the first frame that carries it), bytes/s, the frames' render scale (their size over the\n"
-      "viewport's: lower while moving to hold the daemon's target_fps) and errors. Exit 1 when a\n"
-      "session failed.");
+      "viewport's: lower while moving to hold the daemon's target_fps) and errors. With --still,\n"
+      "more sessions hold their starting view still and take the frames that refine it; their\n"
+      "figures are printed apart, and the total and fps_min_over_max are the moving sessions'.\n"
+      "Exit 1 when a session failed.");
   parser.option("--url", "ws://HOST:PORT[/PATH]", "the daemon or proxy (path default /session)",
                 &url);
-  parser.option("--sessions", "N", "concurrent sessions (default 1)", &options.sessions);
+  parser.option("--sessions", "N", "concurrent moving sessions (default 1)", &options.sessions);
+  parser.option("--still", "N", "more sessions that hold their view still (default 0)",
+                &options.stillSessions);
   parser.option("--duration", "S", "seconds each session runs (default 10)", &options.durationS);
   parser.option("--camera-path", "FILE.json", "keyframes the camera follows in a loop",
                 &cameraPathFile);
@@ -129,6 +133,7 @@ int runLoad(std::span<const std::string> args) {
   options.path = target.path;
   if (options.sessions < 1 || options.sessions > 1000)
     throw UsageError("--sessions must be 1 to 1000");
+  if (options.stillSessions > 1000) throw UsageError("--still must be 0 to 1000");
   if (!(options.durationS > 0.0 && options.durationS <= 86400.0))
     throw UsageError("--duration must be above 0 and at most 86400 seconds");
   if (!(options.inputHz > 0.0 && options.inputHz <= 1000.0))
@@ -160,9 +165,11 @@ int runLoad(std::span<const std::string> args) {
                                     [](const net::LoadSessionResult& r) { return r.connected; });
   if (noneConnected) throw std::runtime_error(results.front().failure);
 
-  Figures total = figuresOf(results);
+  std::vector<net::LoadSessionResult> moving, still;
+  for (const net::LoadSessionResult& r : results) (r.still ? still : moving).push_back(r);
+  Figures total = figuresOf(moving);
   double minFps = 1e300, maxFps = 0.0;
-  for (const net::LoadSessionResult& r : results) {
+  for (const net::LoadSessionResult& r : moving) {
     minFps = std::min(minFps, r.framesPerSecond());
     maxFps = std::max(maxFps, r.framesPerSecond());
   }
@@ -176,11 +183,16 @@ int runLoad(std::span<const std::string> args) {
                           {"rate_hz", options.inputHz},
                           {"fps_min_over_max", fairness},
                           {"total", figuresJson(total)}};
-    out["total"]["sessions"] = results.size();
+    out["total"]["sessions"] = moving.size();
     out["total"]["failed"] = failed;
+    if (!still.empty()) {
+      out["still"] = figuresJson(figuresOf(still));
+      out["still"]["sessions"] = still.size();
+    }
     for (const net::LoadSessionResult& r : results) {
       nlohmann::json session = figuresJson(figuresOf({r}));
       session["session"] = r.index;
+      session["still"] = r.still;
       session["seconds"] = r.seconds;
       session["inputs_sent"] = r.inputsSent;
       if (!r.failure.empty()) session["failure"] = r.failure;
@@ -188,15 +200,21 @@ int runLoad(std::span<const std::string> args) {
     }
     std::printf("%s\n", out.dump(2).c_str());
   } else {
-    std::printf("hdof load: %zu sessions x %g s against %s, mode %s, %s, %g Hz input\n",
-                results.size(), options.durationS, url.c_str(), modeShown.c_str(), size.c_str(),
-                options.inputHz);
+    std::printf("hdof load: %zu sessions x %g s against %s, mode %s, %s, %g Hz input%s\n",
+                moving.size(), options.durationS, url.c_str(), modeShown.c_str(), size.c_str(),
+                options.inputHz,
+                still.empty() ? "" : (", and " + std::to_string(still.size()) + " still").c_str());
     for (const net::LoadSessionResult& r : results) {
-      printFigures("session=" + std::to_string(r.index), figuresOf({r}));
+      printFigures("session=" + std::to_string(r.index) + (r.still ? " still" : ""),
+                   figuresOf({r}));
       std::printf("%s%s\n", r.failure.empty() ? "" : " failure=", r.failure.c_str());
     }
-    printFigures("total sessions=" + std::to_string(results.size()), total);
+    printFigures("total sessions=" + std::to_string(moving.size()), total);
     std::printf(" fps_min_over_max=%.2f\n", fairness);
+    if (!still.empty()) {
+      printFigures("still sessions=" + std::to_string(still.size()), figuresOf(still));
+      std::printf("\n");
+    }
   }
   std::fflush(stdout);
   if (failed) {

@@ -156,9 +156,10 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
   InputScript script(options, *welcome);
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(1.0 / options.inputHz));
-  Clock::time_point start = Clock::now(), nextInput = start;
+  Clock::time_point start = Clock::now();
   Clock::time_point end = start + std::chrono::duration_cast<Clock::duration>(
                                       std::chrono::duration<double>(options.durationS));
+  Clock::time_point nextInput = result.still ? end : start;  // a still view sends no input
   for (Clock::time_point now = start; now < end; now = Clock::now()) {
     if (now >= nextInput) {
       double t = std::chrono::duration<double>(now - start).count();
@@ -207,11 +208,12 @@ void runSession(const LoadOptions& options, const std::string& run, LoadSessionR
 }  // namespace
 
 std::vector<LoadSessionResult> runLoad(const LoadOptions& options) {
-  std::vector<LoadSessionResult> results(options.sessions);
+  std::vector<LoadSessionResult> results(options.sessions + options.stillSessions);
   std::string run = options.affinity.empty() ? runId() : options.affinity;
   std::vector<std::thread> threads;
-  for (uint32_t i = 0; i < options.sessions; ++i) {
+  for (uint32_t i = 0; i < results.size(); ++i) {
     results[i].index = i + 1;
+    results[i].still = i >= options.sessions;
     threads.emplace_back([&, i] { runSession(options, run, results[i]); });
   }
   for (std::thread& thread : threads) thread.join();

@@ -1,8 +1,9 @@
 // The scripted load of `hdof load`: N concurrent WebSocket sessions against a daemon (or a proxy
 // in front of several), each moving its camera at a steady rate as a user dragging would, along
 // a camera path or a sway of the starting view, and acking every frame on receipt as the browser
-// client does. Measures per session: frames, bytes, input-to-frame latency (from sending a seq
-// to receiving the first frame that carries it) and errors.
+// client does; optionally beside sessions that hold their view still and take what the daemon
+// sends while it refines it. Measures per session: frames, bytes, input-to-frame latency (from
+// sending a seq to receiving the first frame that carries it) and errors.
 #pragma once
 
 #include "render/camera_path.h"
@@ -21,6 +22,7 @@ struct LoadOptions {
   std::string path = "/session";  // may carry a query; each session adds affinity=KEY-INDEX
   std::string affinity;           // KEY: a proxy's session key (empty: a random one per run)
   uint32_t sessions = 1;
+  uint32_t stillSessions = 0;  // more sessions that hold their starting view still (no input)
   double durationS = 10.0;
   double inputHz = 30.0;                 // camera messages per second and session
   std::optional<CameraPath> cameraPath;  // one loop takes pathSeconds; else a sway
@@ -32,6 +34,7 @@ struct LoadOptions {
 
 struct LoadSessionResult {
   uint32_t index = 0;
+  bool still = false;  // held its starting view still, letting the daemon refine it
   bool connected = false;
   bool completed = false;  // ran its whole duration
   std::string failure;     // why not, in one line

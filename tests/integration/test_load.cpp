@@ -60,12 +60,40 @@ TEST(Load, PrintsALinePerSessionAndATotal) {
   EXPECT_NE(result.out.find("errors=0"), std::string::npos) << result.out;
 }
 
+// --still: sessions that send no input beside the moving ones; reported apart, and left out of
+// the moving sessions' total and fairness. A still session gets its first frame at once (the
+// frames that refine it wait while the other session moves).
+TEST(Load, StillSessionsAreReportedApart) {
+  Daemon daemon({{}, R"({"mode": "postprocess"})", {}});
+  CommandResult result = runHdof(loadArgs(daemon.port(), 1, 4) + " --still 1 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.out << result.err << daemon.log();
+  nlohmann::json report = loadJson(result);
+  ASSERT_EQ(report["sessions"].size(), 2u) << result.out;
+  const nlohmann::json& moving = report["sessions"][0];
+  const nlohmann::json& still = report["sessions"][1];
+  EXPECT_FALSE(moving["still"].get<bool>());
+  EXPECT_TRUE(still["still"].get<bool>());
+  EXPECT_GT(moving["inputs_sent"].get<int>(), 1) << result.out;
+  EXPECT_LE(still["inputs_sent"].get<int>(), 1) << "the mode message alone";
+  EXPECT_GT(still["frames"].get<int>(), 0) << result.out;
+  EXPECT_EQ(report["total"]["sessions"], 1);
+  EXPECT_EQ(report["total"]["frames"], moving["frames"]);
+  EXPECT_EQ(report["still"]["sessions"], 1);
+  EXPECT_EQ(report["still"]["frames"], still["frames"]);
+
+  CommandResult lines = runHdof(loadArgs(daemon.port(), 1, 1) + " --still 1");
+  ASSERT_EQ(lines.exitCode, 0) << lines.out << lines.err;
+  EXPECT_NE(lines.out.find("\nsession=2 still frames="), std::string::npos) << lines.out;
+  EXPECT_NE(lines.out.find("\ntotal sessions=1 frames="), std::string::npos) << lines.out;
+  EXPECT_NE(lines.out.find("\nstill sessions=1 frames="), std::string::npos) << lines.out;
+}
+
 TEST(Load, BadUsageExits2AndAnAbsentDaemonExits1) {
   for (const char* args :
        {"load", "load --url http://127.0.0.1:8080", "load --url ws://127.0.0.1:99999",
-        "load --url ws://h:1 --sessions 0", "load --url ws://h:1 --mode reference",
-        "load --url ws://h:1 --duration -1", "load --url ws://h:1 --size 0x5",
-        "load --url ws://h:1 --camera-path /no/such/path.json"}) {
+        "load --url ws://h:1 --sessions 0", "load --url ws://h:1 --still 1001",
+        "load --url ws://h:1 --mode reference", "load --url ws://h:1 --duration -1",
+        "load --url ws://h:1 --size 0x5", "load --url ws://h:1 --camera-path /no/such/path.json"}) {
     CommandResult result = runHdof(args);
     EXPECT_EQ(result.exitCode, 2) << args << "\n" << result.err;
     EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << args << result.err;
