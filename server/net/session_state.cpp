@@ -134,22 +134,32 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     lastInput_ = received;
     changed_ = true;
   };
+  // An input that changes nothing (the same camera or lens again, as a client may send it with
+  // every other change; the same mode) is answered by a frame that carries its seq and goes on
+  // with the view as it stands (its accumulation is not started over). It is no new input for
+  // the render loop (lastInput_): the same camera sent over and over does not make a resting
+  // view's frames interactive.
+  auto unchanged = [&](uint32_t seq) {
+    seq_ = seq;
+    newestInput_ = received;
+    reshow_ = true;
+    return std::nullopt;
+  };
   if (const auto* camera = std::get_if<CameraMessage>(&message)) {
+    Camera next = cameraOf(*camera, defaults_.camera);
+    if (next == camera_) return unchanged(camera->seq);
     inputsCoalesced_ += cameraPending_;
     cameraPending_ = true;
-    Camera before = camera_;
-    camera_ = cameraOf(*camera, defaults_.camera);
-    lastMotion_ = received;
-    // The same camera again (a client that sends it with every lens change) leaves the view be.
-    if (camera_.position != before.position || camera_.forward != before.forward ||
-        camera_.up != before.up)
-      lastCameraMotion_ = received;
+    camera_ = next;
+    lastMotion_ = lastCameraMotion_ = received;
     input(camera->seq);
   } else if (const auto* lens = std::get_if<LensMessage>(&message)) {
+    Lens before = lens_;
+    Lens next = lensOf(*lens);
+    if (next == lens_ && !pull_ && !focusAt_) return unchanged(lens->seq);
     inputsCoalesced_ += lensPending_;
     lensPending_ = true;
-    Lens before = lens_;
-    lens_ = lensOf(*lens);
+    lens_ = next;
     pull_.reset();
     focusAt_.reset();
     lastMotion_ = received;
@@ -163,6 +173,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     focusAt_ = *focus;
     input(focus->seq);
   } else if (const auto* mode = std::get_if<ModeMessage>(&message)) {
+    if (mode->mode == mode_ && mode->view == view_) return unchanged(mode->seq);
     resetHistory_ = resetHistory_ || mode->mode != mode_;
     mode_ = mode->mode;
     view_ = mode->view;
@@ -179,7 +190,7 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
       changed_ = true;
     // A resting view is shown again at its new quality (a snapshot asks for 100), continuing its
     // accumulation rather than starting it over.
-    if (stream_.jpegQualityStill != before.jpegQualityStill) requalify_ = true;
+    if (stream_.jpegQualityStill != before.jpegQualityStill) reshow_ = true;
     lastInput_ = received;
   } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
     // Only what was written to the connection: an ack of a frame the client cannot have seen
@@ -199,12 +210,12 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
 }
 
 bool SessionState::changing() const {
-  return changed_ || pull_ || requalify_ || accumulated_ < framesOfAStillView();
+  return changed_ || pull_ || reshow_ || accumulated_ < framesOfAStillView();
 }
 
 bool SessionState::interactive(Clock::time_point now) const {
   if (lastFrame_ == 0) return true;  // a new session's first frame
-  bool answering = changed_ || pull_ || requalify_ || lastFrameMoving_;
+  bool answering = changed_ || pull_ || reshow_ || lastFrameMoving_;
   return answering && msBetween(std::max(lastInput_, lastMotion_), now) < kInteractiveMs;
 }
 
@@ -268,7 +279,7 @@ FramePlan SessionState::startFrame(Clock::time_point now, const FocusPicker& pic
   lastFrameLensOnly_ = lensOnly;
   lastFrameScale_ = scale;
   lastFramePixels_ = size.width * size.height;
-  changed_ = resetHistory_ = cameraPending_ = lensPending_ = requalify_ = false;
+  changed_ = resetHistory_ = cameraPending_ = lensPending_ = reshow_ = false;
   newestInput_.reset();
   return plan;
 }

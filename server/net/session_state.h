@@ -147,7 +147,9 @@ class SessionState {
 
   bool changed_ = true;  // something the image depends on changed since the last frame
   bool resetHistory_ = false;
-  bool requalify_ = false;  // jpeg_quality_still changed: one more frame of a resting view
+  // One more frame of the view as it stands, its accumulation going on: jpeg_quality_still
+  // changed, or an input changed nothing (its seq is answered).
+  bool reshow_ = false;
   bool cameraPending_ = false, lensPending_ = false;  // not yet rendered: a newer one coalesces
   std::optional<FocusAtMessage> focusAt_;
   struct FocusPull {

@@ -16,6 +16,7 @@ struct Camera {
   float znear = 0.05f, zfar = 1000.0f;
 
   static Camera fromScene(const SceneCamera& sceneCamera);
+  bool operator==(const Camera&) const = default;
 };
 
 // Thin lens on a sensor: the aperture diameter is focal length / f-number, and focal length and
@@ -30,6 +31,7 @@ struct Lens {
   Sensor sensor;
 
   float apertureDiameter() const { return focalLengthMm * 0.001f / fNumber; }
+  bool operator==(const Lens&) const = default;
 };
 
 // The lens that frames an image of this size as the scene camera does (its vertical field of

@@ -36,12 +36,6 @@ bool sameView(const Camera& a, const Lens& aLens, const Camera& b, const Lens& b
          aLens.focalLengthMm == bLens.focalLengthMm && aLens.sensor == bLens.sensor;
 }
 
-bool sameLens(const Lens& a, const Lens& b) {
-  return a.focalLengthMm == b.focalLengthMm && a.fNumber == b.fNumber &&
-         a.focusDistance == b.focusDistance && a.blades == b.blades &&
-         a.bladeRotation == b.bladeRotation && a.sensor == b.sensor;
-}
-
 }  // namespace
 
 double FrameStats::passMsOf(const std::string& pass) const {
@@ -164,7 +158,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   uniforms.rasterSample = stillRaster ? raster_.samples : 0;
   uniforms.stillFrames =
       raster_.valid && sameView(raster_.camera, raster_.lens, request.camera, request.lens) &&
-              sameLens(raster_.lens, request.lens)
+              raster_.lens == request.lens
           ? raster_.stillFrames + 1
           : 0;
   // Neither the G-buffer nor the lens changed since the post-process (its tiles, the ray mask's
@@ -174,7 +168,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
   auto stands = [&](const LensOutput& output, bool geometryOnly) {
     bool sameRaster =
         !drawsGBuffer || (geometryOnly && output.stillRaster && uniforms.rasterSample > 0);
-    return sameRaster && output.valid && sameLens(output.lens, request.lens);
+    return sameRaster && output.valid && output.lens == request.lens;
   };
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_, false);
@@ -194,7 +188,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
     bool keep = accumulation_.valid && accumulation_.mode == RenderMode::RayTrace &&
                 accumulation_.raysPerFrame == request.settings.samplesPerPixel &&
                 sameView(accumulation_.camera, accumulation_.lens, request.camera, request.lens) &&
-                sameLens(accumulation_.lens, request.lens);
+                accumulation_.lens == request.lens;
     rays = {keep ? accumulation_.samples : 0, request.settings.samplesPerPixel, keep ? 1u : 0u,
             gpu::kSequenceRayTrace};
   }

@@ -439,6 +439,48 @@ TEST(SessionState, TheFirstLensChangeIsScaledByARestingFrame) {
   }
 }
 
+// An input that changes nothing (the same camera, lens or mode again) gets a frame that carries
+// its seq, at still quality, and the view's accumulation goes on instead of starting over (the
+// frame refines: it waits while another session moves); a real change starts it over.
+TEST(SessionState, AnInputThatChangesNothingGoesOnWithTheAccumulation) {
+  SessionDefaults d = defaults(RenderMode::RayTrace);
+  d.accumulationFrames = 100;
+  SessionState s(d, {64, 48});
+  s.apply(camera(1, 0.0f), kStart);
+  Clock::time_point t = kStart + 1s;  // at rest
+  for (uint32_t frame = 1; frame <= 3; ++frame, t += 10ms)
+    sentAndAcked(s, s.startFrame(t, noFocus).frame, t);
+  auto answered = [&](const ClientMessage& message, uint32_t seq) {
+    t += 10ms;
+    EXPECT_FALSE(s.apply(message, t));
+    EXPECT_TRUE(dueAt(s, t));
+    EXPECT_EQ(s.interactive(t), seq == 5u) << "only a change is new input";
+    FramePlan plan = s.startFrame(t, noFocus);
+    sentAndAcked(s, plan.frame, t);
+    EXPECT_EQ(plan.seq, seq);
+    return plan;
+  };
+  FramePlan same = answered(camera(2, 0.0f), 2);
+  EXPECT_EQ(same.accumulatedFrames, 4u) << "the same camera: the accumulation goes on";
+  EXPECT_FALSE(same.moving);
+  EXPECT_EQ(same.jpegQuality, 90);
+  LensMessage lens;
+  lens.seq = 3;
+  const Lens& current = s.lens();
+  lens.focalLengthMm = current.focalLengthMm;
+  lens.fNumber = current.fNumber;
+  lens.focusDistance = current.focusDistance;
+  lens.blades = current.blades;
+  lens.sensor = current.sensor;
+  EXPECT_EQ(answered(lens, 3).accumulatedFrames, 5u) << "the same lens";
+  EXPECT_EQ(answered(ModeMessage{4, RenderMode::RayTrace, DebugView::Final}, 4).accumulatedFrames,
+            6u)
+      << "the same mode";
+  FramePlan moved = answered(camera(5, 1.0f), 5);
+  EXPECT_EQ(moved.accumulatedFrames, 1u) << "a new camera starts over";
+  EXPECT_TRUE(moved.moving);
+}
+
 TEST(SessionState, TargetFpsZeroNeverScales) {
   SessionDefaults d = defaults(RenderMode::PostProcess);
   d.targetFps = 0.0;
