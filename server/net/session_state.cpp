@@ -185,13 +185,14 @@ std::optional<ProtocolError> SessionState::apply(const ClientMessage& message,
     stream_.maxFps = settings->maxFps.value_or(stream_.maxFps);
     stream_.raysPerPixel = settings->raysPerPixel.value_or(stream_.raysPerPixel);
     stream_.resolutionScale = settings->resolutionScale.value_or(stream_.resolutionScale);
-    if (stream_.raysPerPixel != before.raysPerPixel ||
-        stream_.resolutionScale != before.resolutionScale)
-      changed_ = true;
+    bool restart = stream_.raysPerPixel != before.raysPerPixel ||
+                   stream_.resolutionScale != before.resolutionScale;
     // A resting view is shown again at its new quality (a snapshot asks for 100), continuing its
     // accumulation rather than starting it over.
-    if (stream_.jpegQualityStill != before.jpegQualityStill) reshow_ = true;
-    lastInput_ = received;
+    bool requalify = stream_.jpegQualityStill != before.jpegQualityStill;
+    changed_ = changed_ || restart;
+    reshow_ = reshow_ || requalify;
+    if (restart || requalify) lastInput_ = received;
   } else if (const auto* ack = std::get_if<AckMessage>(&message)) {
     // Only what was written to the connection: an ack of a frame the client cannot have seen
     // would open the window for frames that pile up in the daemon.
