@@ -71,12 +71,11 @@ class SessionState {
   // When the next frame may start, or nothing while the session idles (a message or an ack
   // may change that).
   std::optional<Clock::time_point> nextFrameDue() const;
-  // Whether the session's frames answer input at `now`: its first frame, a change to show (a
-  // move, a focus pull, a new still quality) or, after moving frames, the still frame at rest, its
-  // newest input
-  // within kInteractiveMs (a client that sends a change and then stops acking its frames does not
-  // hold up the others for long). Its other frames refine a resting view (an accumulation), and
-  // wait while any session is interactive (RenderLoop).
+  // Whether the session's frames answer input at `now`: its first frame, or a change to show (a
+  // move, a focus pull, a new still quality) or the still frame at rest after moving frames, with
+  // its newest input within kInteractiveMs (a client that sends a change and then stops acking
+  // its frames does not hold up the others for long). Its other frames refine a resting view (an
+  // accumulation), and wait while any session is interactive (RenderLoop).
   bool interactive(Clock::time_point now) const;
   static constexpr double kInteractiveMs = 1000.0;
   // Takes what the next frame renders; the frame counts as in flight until acked or dropped.
@@ -114,8 +113,8 @@ class SessionState {
  private:
   // Frames a view renders while it rests (the mode's accumulation), then the session idles.
   uint32_t framesOfAStillView() const;
-  // A frame is due as soon as flow control allows: a change, a focus pull, a new still quality,
-  // or an accumulation still running.
+  // A frame is due as soon as flow control allows: a change, a focus pull, a frame of the view as
+  // it stands (reshow_), or an accumulation still running.
   bool changing() const;
   static constexpr uint32_t kRasterRefineFrames = gpu::kStillRasterFrames;
   // The scale (of renderSize) a moving frame renders at: the largest step of kScaleStep, down
