@@ -78,6 +78,11 @@ void Metrics::setSessionsNotReading(int sessions) {
   notReading_ = sessions;
 }
 
+void Metrics::setSessionsInteractive(int sessions) {
+  std::lock_guard lock(mutex_);
+  interactive_ = sessions;
+}
+
 void Metrics::inputsCoalesced(uint64_t count) {
   std::lock_guard lock(mutex_);
   coalesced_ += count;
@@ -116,6 +121,9 @@ std::string Metrics::prometheusText() const {
   header(out, "hdof_sessions_not_reading", "gauge",
          "Sessions paused: a ping of theirs has gone unanswered for a second.");
   sample(out, "hdof_sessions_not_reading", "", notReading_);
+  header(out, "hdof_sessions_interactive", "gauge",
+         "Sessions whose frames answer input now; the others' refining frames wait for them.");
+  sample(out, "hdof_sessions_interactive", "", interactive_);
   header(out, "hdof_frames_rendered_total", "counter", "Frames rendered.");
   sample(out, "hdof_frames_rendered_total", "", double(rendered_));
   header(out, "hdof_frames_queued", "gauge",

@@ -36,6 +36,7 @@ class Metrics {
   void frameDropped();
   void sessionTimedOut();
   void setSessionsNotReading(int sessions);
+  void setSessionsInteractive(int sessions);
   void inputsCoalesced(uint64_t count);
   void error(ErrorCode code);
   void closed(uint16_t closeCode);
@@ -51,7 +52,7 @@ class Metrics {
   int sessions_ = 0;
   uint64_t sessionsTotal_ = 0, frames_ = 0, bytes_ = 0, dropped_ = 0, coalesced_ = 0;
   uint64_t rendered_ = 0, timedOut_ = 0;
-  int notReading_ = 0;
+  int notReading_ = 0, interactive_ = 0;
   std::map<std::string, uint64_t> errors_;  // by error code
   std::map<uint16_t, uint64_t> closes_;     // by close code the daemon sent
   std::map<std::string, Histogram> passSeconds_;

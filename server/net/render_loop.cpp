@@ -212,6 +212,7 @@ void RenderLoop::loop() {
         uint32_t(std::count_if(sessions_.begin(), sessions_.end(), [&](const auto& entry) {
           return !entry.second.removed && entry.second.state.interactive(now);
         }));
+    metrics_.setSessionsInteractive(int(interacting));
     std::optional<Clock::time_point> nextDue;
     auto due = pickDue(now, interacting > 0, nextDue);
     if (due == sessions_.end()) {

@@ -343,7 +343,8 @@ TEST(Serve, AFocusChangeOnARestingViewKeepsItsSize) {
 }
 
 // A frame that refines a resting view (an accumulation) waits while another session moves, whose
-// frames would otherwise wait for it; the refinement goes on once that view rests too.
+// frames would otherwise wait for it; the refinement goes on once that view rests too. /metrics
+// counts the moving session alone as interactive meanwhile, and none once both refine.
 TEST(Serve, RefiningFramesWaitWhileAnotherSessionMoves) {
   // still_after_ms: the moving session stays interactive between its inputs, however slowly
   // this machine serves them.
@@ -379,11 +380,13 @@ TEST(Serve, RefiningFramesWaitWhileAnotherSessionMoves) {
   Clock::time_point moveStart = Clock::now();
   uint32_t seq = 0;
   int movingFrames = 0;
+  double interactiveWhileMoving = -1.0;
   while (Clock::now() < moveStart + 2s) {
     moving->sendText(cameraMessage(welcome, ++seq, 0.01f * float(seq % 20)).dump());
     std::optional<Frame> frame = frameApplying(*moving, seq);
     ASSERT_TRUE(frame) << daemon.log();
-    ++movingFrames;
+    if (++movingFrames == 3)
+      interactiveWhileMoving = metricValue(daemon.port(), "hdof_sessions_interactive");
   }
   Clock::time_point moveEnd = Clock::now();
   long during = framesBetween(moveStart + 500ms, moveEnd);
@@ -405,6 +408,8 @@ TEST(Serve, RefiningFramesWaitWhileAnotherSessionMoves) {
   EXPECT_LE(during, 1) << "refining frames while the other session moved (" << movingFrames
                        << " moving frames)";
   EXPECT_GE(after, 3) << "the resting view refines once no view moves";
+  EXPECT_EQ(interactiveWhileMoving, 1.0) << "the moving session alone";
+  EXPECT_EQ(metricValue(daemon.port(), "hdof_sessions_interactive"), 0.0) << "both refine";
 }
 
 TEST(Serve, BadInputGetsAnErrorAndTheSessionGoesOn) {
