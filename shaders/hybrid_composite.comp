@@ -131,7 +131,7 @@ void main() {
     vec3 raster = imageLoad(sharp, pixel).rgb * (1.0 - ratio) + near.rgb;
     float converged = clamp(far.a / kConvergedRays, 0.0, 1.0);
     color = mix(pp, mix(raster, traced, converged), trust);
-    if (frame.rasterSample > 0u) {
+    if (viewRests()) {
       float samples = imageLoad(samplesAveraged, pixel).r;
       float counted = far.a / (far.a + kRasterSampleRays * samples);
       float shown = converged * trust;

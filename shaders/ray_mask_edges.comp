@@ -88,7 +88,7 @@ void main() {
   // While the view rests (the raster is refining), every edge whose blur spans a pixel: the
   // post-process's small blurs are approximate there, and only rays converge to the lens's image.
   float wider = max(nearCoc, abs(farCoc));
-  if (!needsRays && frame.rasterSample > 0u && max(depthEdge, normalEdge) > 0.0 && wider >= 1.0) {
+  if (!needsRays && viewRests() && max(depthEdge, normalEdge) > 0.0 && wider >= 1.0) {
     needsRays = true;
     edge = max(depthEdge, normalEdge);
     diameter = min(wider, kRayMaskSilhouetteReach) + 2.0;
@@ -97,7 +97,7 @@ void main() {
   // alone: the composite hands them over to their traced colour as its rays add up.
   bool crossed = innerNearest > innerFarthest * (1.0 + kRayMaskDepthJumpLow) ||
                  innerNormals < kRayMaskCrossedNormal;
-  if (!needsRays && frame.rasterSample > 0u && max(depthEdge, normalEdge) > 0.0 && crossed) {
+  if (!needsRays && viewRests() && max(depthEdge, normalEdge) > 0.0 && crossed) {
     needsRays = true;
     edge = max(depthEdge, normalEdge);
     diameter = 1.0;

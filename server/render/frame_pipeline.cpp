@@ -170,11 +170,15 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
         !drawsGBuffer || (geometryOnly && output.stillRaster && uniforms.rasterSample > 0);
     return sameRaster && output.valid && output.lens == request.lens;
   };
+  // The ray mask's edges take in a resting view's edges too (viewRests() in the shaders): edges
+  // made for a frame whose lens changed do not stand once it rests, nor the reverse.
+  bool viewRests = uniforms.rasterSample > 0 && uniforms.stillFrames > 0;
   bool needsDof = request.mode == RenderMode::PostProcess || request.mode == RenderMode::Hybrid;
   keepDofOutput_ = needsDof && stands(dofOutput_, false);
   keepDofTiles_ = needsDof && stands(dofTiles_, true);
   if (request.mode == RenderMode::Hybrid)
-    hybrid_.startFrame(uniforms, stands(maskEdges_, true), request.view, request.traceEverywhere);
+    hybrid_.startFrame(uniforms, stands(maskEdges_, true) && maskEdges_.stillRaster == viewRests,
+                       request.view, request.traceEverywhere);
   uniforms.rasterJitter = rasterJitter(stillRaster ? raster_.samples
                                        : moving ? 1 + raster_.moves % (kJitterCycle - 1)
                                                 : 0);
@@ -222,7 +226,7 @@ FrameStats FramePipeline::render(const FrameRequest& request) {
     dofTiles_ = {needsDof, request.lens, uniforms.rasterSample > 0};
   }
   bool hybrid = request.mode == RenderMode::Hybrid;
-  if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens, uniforms.rasterSample > 0};
+  if (drawsGBuffer || hybrid) maskEdges_ = {hybrid, request.lens, viewRests};
   keepDofOutput_ = keepDofTiles_ = false;
   if (raster)
     raster_ = {true,

@@ -133,7 +133,8 @@ class FramePipeline {
   // has all its samples keeps it until the lens changes: the post-process output, its tiles, and
   // the ray mask's edges and their spread (hybrid only). The last two read depth and normals
   // alone, which a still view's further samples leave as they are (they add colour): made from
-  // one of those frames (stillRaster), they stand over the later ones too.
+  // one of those frames (stillRaster; for the edges, one whose lens rested too), they stand over
+  // the later ones too.
   struct LensOutput {
     bool valid = false;
     Lens lens;

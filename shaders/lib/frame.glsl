@@ -21,6 +21,10 @@ float pixelCoc(float z) {
   return signedCocPixels(z, frame.apertureDiameter, frame.focusDistance, frame.focalLengthPixels);
 }
 
+// Camera and lens rest and the raster refines this view (rasterSample, stillFrames): a still
+// view's frames, not a focus pull's, whose lens changes under a standing raster.
+bool viewRests() { return frame.rasterSample > 0u && frame.stillFrames > 0u; }
+
 // Relative luminance of linear Rec. 709 radiance.
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 

@@ -372,12 +372,14 @@ TEST(RayMask, BlursTheReconstructionDoesNotReachKeepTheFullRays) {
 
 // A resting view also traces the pixels that an in-focus edge crosses (the raster's samples fall
 // short of the traced image's antialiasing there), and those alone: a depth or normal step lies
-// within the 3x3 of every one. A moving view (no raster samples yet) traces none of them.
+// within the 3x3 of every one. A moving view (no raster samples yet) traces none of them, nor
+// does a focus pull's frame (the raster stands, the lens just changed).
 TEST(RayMask, ARestingViewTracesThePixelsInFocusEdgesCross) {
   RayMaskRig rig("builtin:dof", 320, 180);
   const Lens pinhole{50.0f, 1e6f, 0.0f};
   EXPECT_EQ(rig.render(pinhole).header.count, 0u) << "nothing is blurred";
-  RayMaskRig::Frame resting = rig.render(pinhole, nullptr, 1);
+  EXPECT_EQ(rig.render(pinhole, nullptr, 1, 0).header.count, 0u) << "the lens just changed";
+  RayMaskRig::Frame resting = rig.render(pinhole, nullptr, 1, 1);
   expectListMatchesMask(resting, rig.width());
   std::printf("edge pixels traced at rest: %.1f%% of the image\n", 100.0 * resting.coverage);
   EXPECT_GT(resting.coverage, 0.01);
