@@ -382,7 +382,8 @@ TEST(Serve, RefiningFramesWaitWhileAnotherSessionMoves) {
   int movingFrames = 0;
   double interactiveWhileMoving = -1.0;
   while (Clock::now() < moveStart + 2s) {
-    moving->sendText(cameraMessage(welcome, ++seq, 0.01f * float(seq % 20)).dump());
+    ++seq;
+    moving->sendText(cameraMessage(welcome, seq, 0.01f * float(seq % 20)).dump());
     std::optional<Frame> frame = frameApplying(*moving, seq);
     ASSERT_TRUE(frame) << daemon.log();
     if (++movingFrames == 3)
