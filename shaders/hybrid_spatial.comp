@@ -17,6 +17,7 @@
 layout(local_size_x = 64) in;
 
 #include "lib/frame.glsl"
+#include "lib/dof.glsl"
 #include "lib/sampling.glsl"
 #include "shared/ray_work.h"
 #include "lib/skippable.glsl"
@@ -41,6 +42,10 @@ layout(set = 1, binding = 10, rgba16f) uniform readonly image2D postProcess;  //
 // kNoiseTestFrames frames of its rays, or rays whose luminance is a few rare bright hits (a
 // light's blur: fewer than kNoiseTestBrightHits such hits, n L^2 / variance).
 layout(set = 1, binding = 11) uniform writeonly image2D outDifference;
+// Per tile, the near-field blurs in reach: the post-process's dilated tiles (y: the nearest CoC
+// whose blur can reach the tile) and the ray mask's tiles of near blurs wider than it renders.
+layout(set = 1, binding = 12, rg16f) uniform readonly image2D dilatedTiles;
+layout(set = 1, binding = 13, r16f) uniform readonly image2D farTiles;
 
 const int kTaps = 6;  // pairs of taps
 const float kMaxRadius = 8.0;  // pixels: the gather denoises, the blur itself is traced
@@ -73,6 +78,17 @@ float youngNearCoc(ivec2 pixel) {
   return widest * ratioSum / max(traced, 1.0);
 }
 
+// Whether a near-field blur wide enough for the gather to reach a neighbour (an eighth of it,
+// kHybridSpatialRadiusOfCoc, a pixel or more) can cover the pixel: only then can youngNearCoc
+// widen its disc. Near surfaces out of the image, which only rays see, are in no tile; their
+// rays are shown by their count alone (hybrid_composite.comp), a young pixel's by a few of the
+// kHybridTrustedRays.
+bool gatherableNearBlurInReach(ivec2 pixel) {
+  ivec2 tile = pixel / int(kDofTileSize);
+  return imageLoad(dilatedTiles, tile).y <= -1.0 / kHybridSpatialRadiusOfCoc ||
+         imageLoad(farTiles, tile).x > 0.0;
+}
+
 void main() {
   if (gl_GlobalInvocationID.x >= workList.header.count) return;
   uvec2 entry = workList.entries[gl_GlobalInvocationID.x];
@@ -84,7 +100,9 @@ void main() {
   float rayVariance = imageLoad(variance, pixel).r;
   float noise = sqrt(clamp(rayVariance, kVarianceMin, kVarianceMax) / samples);
   float nearReach = 0.0;
-  SKIPPABLE_IF(rayVariance >= kRayMaskVarianceNew) { nearReach = youngNearCoc(pixel); }
+  SKIPPABLE_IF(rayVariance >= kRayMaskVarianceNew && gatherableNearBlurInReach(pixel)) {
+    nearReach = youngNearCoc(pixel);
+  }
   float radius =
       min(kHybridSpatialRadiusOfCoc * max(blendedCoc(pixel, near.a), nearReach), kMaxRadius);
 

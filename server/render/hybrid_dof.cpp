@@ -105,7 +105,9 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images) const {
                   {"outNear", h.reconstructedNear},
                   {"outFar", h.reconstructedFar},
                   {"postProcess", images.dof.output},
-                  {"outDifference", h.difference}},
+                  {"outDifference", h.difference},
+                  {"dilatedTiles", images.dof.dilatedTiles},
+                  {"farTiles", m.farTiles}},
                  Grid::indirect(m.workList));
   if (view_ == DebugView::Final || view_ == DebugView::FocusZone) {
     // The post-process's colour where the mask did not trace; the composite the rest. Taking
