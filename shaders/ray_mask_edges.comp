@@ -85,8 +85,9 @@ void main() {
     edge = depthEdge;
     diameter = min(farCoc, kRayMaskSilhouetteReach) + 2.0;
   }
-  // While the view rests (the raster is refining), every edge whose blur spans a pixel: the
-  // post-process's small blurs are approximate there, and only rays converge to the lens's image.
+  // While the view rests (camera and lens; not in a focus pull, whose few rays a pixel would not
+  // hand over), every edge whose blur spans a pixel: the post-process's small blurs are
+  // approximate there, and only rays converge to the lens's image.
   float wider = max(nearCoc, abs(farCoc));
   if (!needsRays && viewRests() && max(depthEdge, normalEdge) > 0.0 && wider >= 1.0) {
     needsRays = true;
