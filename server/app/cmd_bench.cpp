@@ -199,13 +199,14 @@ int runBench(std::span<const std::string> args) {
     request.lens.focusDistance = focus;
     request.timePasses = true;
   };
-  auto focusPullMs = [&](RenderMode mode) {
+  // The median wall-clock time of a run's untimed frames (focusPull, movingFrames).
+  auto wallMedian = [&](auto&& run, RenderMode mode) {
     std::vector<double> ms;
-    focusPull(mode, false, [&](const FrameStats& stats) { ms.push_back(stats.wallMs); });
+    run(mode, false, [&](const FrameStats& stats) { ms.push_back(stats.wallMs); });
     return median(ms);
   };
-  double postProcessFocusPullMs = focusPullMs(RenderMode::PostProcess);
-  double hybridFocusPullMs = focusPullMs(RenderMode::Hybrid);
+  double postProcessFocusPullMs = wallMedian(focusPull, RenderMode::PostProcess);
+  double hybridFocusPullMs = wallMedian(focusPull, RenderMode::Hybrid);
   PassTimes postProcessFocusPullPasses, focusPullPasses;
   focusPull(RenderMode::PostProcess, true,
             [&](const FrameStats& stats) { postProcessFocusPullPasses.add(stats); });
@@ -214,6 +215,30 @@ int runBench(std::span<const std::string> args) {
     focusPullPasses.add(stats);
     focusPullRays.push_back(double(stats.raysShot));
   });
+
+  // Frames of a turning camera (a quarter of a degree a frame, a slow drag's): every frame a new
+  // view, whose G-buffer runs and whose history is reprojected, after three such frames so that
+  // the history is one of motion.
+  auto movingFrames = [&](RenderMode mode, bool timed, auto&& onFrame) {
+    request.mode = mode;
+    request.timePasses = timed;
+    setup.pipeline.resetHistory();
+    Camera start = request.camera;
+    glm::vec3 right = glm::normalize(glm::cross(start.forward, start.up));
+    for (uint32_t i = 0; i < frames + 3; ++i) {
+      float angle = glm::radians(0.25f) * float(i);
+      request.camera.forward =
+          glm::normalize(std::cos(angle) * start.forward + std::sin(angle) * right);
+      FrameStats stats = setup.pipeline.render(request);
+      if (i >= 3) onFrame(stats);
+    }
+    request.camera = start;
+    request.timePasses = true;
+  };
+  double postProcessMovingMs = wallMedian(movingFrames, RenderMode::PostProcess);
+  double hybridMovingMs = wallMedian(movingFrames, RenderMode::Hybrid);
+  PassTimes movingPasses;
+  movingFrames(RenderMode::Hybrid, true, [&](const FrameStats& stats) { movingPasses.add(stats); });
 
   // The hybrid's frames once the view rests (nothing changed for kStillRasterFrames frames): the
   // G-buffer stands and every pixel gets rays, the frames an equal-time comparison spends most of
@@ -276,6 +301,8 @@ int runBench(std::span<const std::string> args) {
         "\"postprocess_multisampled_frame_ms\":%.3f,\"hybrid_multisampled_frame_ms\":%.3f,"
         "\"hybrid_rest_frame_ms\":%.3f,\"hybrid_rest_rays_per_frame\":%.0f,"
         "\"hybrid_rest_passes_ms\":{%s},"
+        "\"postprocess_moving_frame_ms\":%.3f,\"hybrid_moving_frame_ms\":%.3f,"
+        "\"hybrid_moving_passes_ms\":{%s},"
         "\"lens\":{\"focal_length_mm\":%.3f,\"f_number\":%.4g,\"focus_distance\":%.4f,"
         "\"sensor_width_mm\":%.4g,\"sensor_height_mm\":%.4g,\"fov_x_deg\":%.3f,"
         "\"fov_y_deg\":%.3f}}\n",
@@ -288,7 +315,8 @@ int runBench(std::span<const std::string> args) {
         postProcessFocusPullPasses.text(true).c_str(), hybridFocusPullMs, median(focusPullRays),
         focusPullPasses.text(true).c_str(), postProcessCutMs, hybridCutMs,
         postProcessMultisampledMs, hybridMultisampledMs, hybridRestMs, median(restRays),
-        restPasses.text(true).c_str(), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
+        restPasses.text(true).c_str(), postProcessMovingMs, hybridMovingMs,
+        movingPasses.text(true).c_str(), lens.focalLengthMm, lens.fNumber, lens.focusDistance,
         lens.sensor.widthMm, lens.sensor.heightMm, fov.x, fov.y);
     return 0;
   }
@@ -333,6 +361,11 @@ int runBench(std::span<const std::string> args) {
       msText(hybridRestMs).c_str(), hybridRestMs / rayTraceFrameMs, median(restRays),
       gpu::kStillRasterFrames, frames);
   std::printf("hybrid_rest_passes_ms:%s (medians)\n", restPasses.text(false).c_str());
+  std::printf(
+      "moving_frame_ms: postprocess=%s hybrid=%s (a camera turning 0.25 degrees a frame; wall "
+      "clock, medians of %u)\n",
+      msText(postProcessMovingMs).c_str(), msText(hybridMovingMs).c_str(), frames);
+  std::printf("hybrid_moving_passes_ms:%s (medians)\n", movingPasses.text(false).c_str());
   std::printf("hybrid_rays_per_frame=%.0f (%.2f per pixel of the image, %.2f per traced pixel)\n",
               hybridRays, hybridRays / (double(imageSize.width) * imageSize.height),
               hybridRays / std::max(maskCoverage * imageSize.width * imageSize.height, 1.0));

@@ -137,24 +137,30 @@ TEST(Cli, TheLensSetsTheFieldOfView) {
                                   "\"fov_x_deg\":19.6"),
             std::string::npos)
       << bench.stdoutText;
-  // ... and what a lens-only frame, a frame after a cut and one at rest cost.
+  // ... and what a lens-only frame, a frame after a cut, one at rest and one in motion cost.
   for (const char* figure : {"\"hybrid_focus_pull_ms\":", "\"hybrid_cut_frame_ms\":",
-                             "\"hybrid_rest_frame_ms\":"})
+                             "\"hybrid_rest_frame_ms\":", "\"hybrid_moving_frame_ms\":"})
     EXPECT_NE(bench.stdoutText.find(figure), std::string::npos) << figure;
   // At rest every pixel gets rays.
   const std::string restRays = "\"hybrid_rest_rays_per_frame\":";
   size_t at = bench.stdoutText.find(restRays);
   ASSERT_NE(at, std::string::npos);
   EXPECT_GE(std::stod(bench.stdoutText.substr(at + restRays.size())), 64.0 * 36.0);
-  // A lens-only frame's passes: the DoF steps (and the hybrid's rays), no G-buffer work.
-  auto pullPasses = [&](const std::string& mode) {
-    const std::string member = "\"" + mode + "_focus_pull_passes_ms\":{";
+  // A figure's passes; a lens-only frame's: the DoF steps (and the hybrid's rays), no G-buffer
+  // work.
+  auto passesOf = [&](const std::string& figure) {
+    const std::string member = "\"" + figure + "_passes_ms\":{";
     size_t from = bench.stdoutText.find(member);
     EXPECT_NE(from, std::string::npos) << member;
     if (from == std::string::npos) return std::string();
     return bench.stdoutText.substr(from, bench.stdoutText.find('}', from) - from);
   };
-  std::string hybridPasses = pullPasses("hybrid"), postProcessPasses = pullPasses("postprocess");
+  // In motion the G-buffer runs every frame and the hybrid's history is reprojected.
+  std::string movingPasses = passesOf("hybrid_moving");
+  for (const char* pass : {"\"visibility\":", "\"gbuffer\":", "\"hybrid_temporal\":"})
+    EXPECT_NE(movingPasses.find(pass), std::string::npos) << pass << " in " << movingPasses;
+  std::string hybridPasses = passesOf("hybrid_focus_pull"),
+              postProcessPasses = passesOf("postprocess_focus_pull");
   for (const char* pass : {"\"dof_gather\":", "\"hybrid_trace\":", "\"hybrid_temporal\":"})
     EXPECT_NE(hybridPasses.find(pass), std::string::npos) << pass << " in " << hybridPasses;
   EXPECT_NE(postProcessPasses.find("\"dof_gather\":"), std::string::npos) << postProcessPasses;
