@@ -16,6 +16,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "lib/frame.glsl"
 #include "lib/dof.glsl"
+#include "lib/catmull_rom.glsl"
 
 // This frame's sample; a: its CoC.
 layout(set = 1, binding = 1, rgba16f) uniform readonly image2D rasterColor;
@@ -43,25 +44,16 @@ layout(push_constant) uniform Push {
 // The weight of this frame's sample in motion: the history's is the rest.
 const float kMovingBlend = 0.2;
 
-// The history at a sub-pixel position, Catmull-Rom over the 4x4 texel centres around it but its
-// corners (their weights are under 0.4% each; edges clamped): a bilinear fetch blurs the history a
-// little every frame, and a moving view went soft.
+// The history at a sub-pixel position (lib/catmull_rom.glsl; edges clamped).
 vec3 historyAt(vec2 position) {
-  vec2 p = position - 0.5;
-  ivec2 base = ivec2(floor(p));
-  vec2 f = p - vec2(base);
-  vec2 w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
-  vec2 w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
-  vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
-  vec2 w3 = f * f * (-0.5 + 0.5 * f);
-  vec2 weights[4] = vec2[4](w0, w1, w2, w3);
+  CatmullRomTaps taps = catmullRomTaps(position);
   ivec2 last = ivec2(frame.imageSize) - 1;
   vec4 sum = vec4(0.0);
   [[unroll]] for (int j = 0; j < 4; ++j) {
     [[unroll]] for (int i = 0; i < 4; ++i) {
-      if ((i == 0 || i == 3) && (j == 0 || j == 3)) continue;
-      vec3 c = imageLoad(history, clamp(base + ivec2(i - 1, j - 1), ivec2(0), last)).rgb;
-      sum += vec4(c, 1.0) * (weights[i].x * weights[j].y);
+      if (!catmullRomTapRead(i, j)) continue;
+      vec3 c = imageLoad(history, clamp(taps.first + ivec2(i, j), ivec2(0), last)).rgb;
+      sum += vec4(c, 1.0) * (taps.x[i] * taps.y[j]);
     }
   }
   return sum.rgb / sum.w;

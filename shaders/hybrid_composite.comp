@@ -34,6 +34,11 @@ layout(set = 1, binding = 11, r16f) uniform readonly image2D samplesAveraged;  /
 // rg16f: each traced pixel's difference from the post-process and noise (hybrid_spatial.comp).
 layout(set = 1, binding = 12, rg16f) uniform readonly image2D difference;
 
+// Whether this pipeline serves frames in which the camera moved (hybrid_dof.cpp picks): a
+// constant rather than the frame uniforms' two matrices compared in every thread, which cost the
+// pass about 2 ms of a moving frame single-threaded on lavapipe.
+layout(constant_id = 0) const bool kCameraMoved = false;
+
 // Hit ratio over which the far field turns from post-process to ray-traced colour.
 const float kFarBlendRatio = 0.1;
 // Distance from the mask's edge (pixels) over which the far field fades to the post-process.
@@ -109,15 +114,16 @@ void main() {
   float depth = imageLoad(normalDepth, pixel).w;
   float coc = pixelCoc(depth);
   // A pixel whose history is short (the first frames of a view, or in motion) is noisy: the
-  // post-process shares it, in every zone, up to kHybridTrustedRays (48) rays. A pixel that the
-  // mask gives fewer rays (a blur wide on both sides of its edge) is still noisier than the
-  // post-process after 32 of its own: handed over by then, it made a resting view worse for a
-  // while.
+  // post-process shares it, in every zone, up to kHybridTrustedRays (48) rays; while the camera
+  // moves, up to kHybridMovingTrustedRays (24). A pixel that the mask gives fewer rays (a blur
+  // wide on both sides of its edge) is still noisier than the post-process after 32 of its own:
+  // handed over by then, it made a resting view worse for a while.
   // Where a near-field blur wider than the post-process renders (kDofMaxCoc) reaches, the
   // post-process shows a near object too narrow and too solid, wrong by far more than a few rays'
   // noise: the traced colour from the first ray, fading in across the marked tiles' border.
   float beyondPostProcess = farTilesAt(pixel);
-  float trust = mix(clamp(far.a / kHybridTrustedRays, 0.0, 1.0), 1.0, beyondPostProcess);
+  float trustedRays = kCameraMoved ? kHybridMovingTrustedRays : kHybridTrustedRays;
+  float trust = mix(clamp(far.a / trustedRays, 0.0, 1.0), 1.0, beyondPostProcess);
   // Out of the focus zone, where the pixel's own noise is measured.
   float beyondNoise = 1.0;
   SKIPPABLE_IF(abs(coc) >= kDofFocusZone && imageLoad(difference, pixel).y > 0.0) {

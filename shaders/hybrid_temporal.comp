@@ -1,20 +1,24 @@
 // Temporal accumulation of the hybrid's ray-traced layers (stage 5; an exponential moving average,
 // as in TAA): the near layer reprojected with the motion vectors, the far layer through its average
-// far world position (the neighbours' where a pixel had no far hit), history rejected where the
-// surface under the near reprojection changed depth (disocclusion) or on a cut, and, while the
-// camera moves or the lens changes, clamped to the range of this frame's rays around the pixel,
-// with a shorter window (everywhere: a blurred near silhouette moves with its own parallax, not
-// with the surface behind it, so a slowly moving background pixel holds stale near colour too;
-// a focus pull moves every blur); luminance moments give the variance that the next frame's ray
-// mask (stage 3) reads, newly traced pixels counting as noisy. One thread per pixel of the ray mask's work list; the others' history was
-// cleared (step hybrid_history_clear: pixels the mask left out this frame drop their history),
-// or, on a resting view whose pixels take their rays in turns, stands (accumulated in place).
+// far world position (the neighbours' where a pixel had no far hit), both read between texels
+// where the camera moved (Catmull-Rom), history rejected where the surface under the near
+// reprojection changed depth (disocclusion) or on a cut, and, while the camera moves or the lens
+// changes, clamped to the range of this frame's rays around the pixel, with a shorter window
+// (everywhere: a blurred near silhouette moves with its own parallax, not with the surface behind
+// it, so a slowly moving background pixel holds stale near colour too; a focus pull moves every
+// blur); luminance moments give the variance that the next frame's ray mask (stage 3) reads, newly
+// traced pixels counting as noisy. One thread per pixel of the ray mask's work list; the others'
+// history was cleared (step hybrid_history_clear: pixels the mask left out this frame drop their
+// history), or, on a resting view whose pixels take their rays in turns, stands (accumulated in
+// place).
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = 64) in;
 
 #include "lib/frame.glsl"
 #include "shared/ray_work.h"
+#include "lib/catmull_rom.glsl"
 
 layout(set = 1, binding = 1, r8ui) uniform readonly uimage2D rays;  // rays traced this frame
 layout(set = 1, binding = 2, rgba16f) uniform readonly image2D nearLayer;  // colour, hit ratio
@@ -97,6 +101,68 @@ NeighbourRange neighbourRange(ivec2 pixel) {
   return range;
 }
 
+// Between texels, where the camera moved: the weights of the history's texels around a position
+// in the previous frame (tap (i, j) at first + (i, j), as lib/catmull_rom.glsl numbers them),
+// Catmull-Rom where each texel it reads has history, else bilinear over those of the 2x2 nearest
+// that have (the nearest has: the caller checks it), normalised. A texel without history holds a
+// stale colour. The nearest texel alone, as the frames without motion read it, moved the history
+// by up to half a pixel at every frame of motion, and the traced colour that the composite shows
+// came out misplaced at edges.
+struct HistoryTaps {
+  ivec2 first;
+  bool complete;  // every texel read has history: Catmull-Rom
+  vec4 x, y;      // its weights along x and y, x normalised over the texels read
+  vec4 bilinear;  // else taps (1, 1), (2, 1), (1, 2) and (2, 2), normalised
+};
+
+ivec2 tapTexel(ivec2 first, int i, int j) {
+  return clamp(first + ivec2(i, j), ivec2(0), ivec2(frame.imageSize) - 1);
+}
+
+HistoryTaps historyTaps(vec2 position) {
+  CatmullRomTaps catmullRom = catmullRomTaps(position);
+  vec2 f = position - 0.5 - vec2(catmullRom.first + 1);  // past the centre of tap (1, 1)
+  vec4 bilinear = vec4(1.0 - f.x, f.x, 1.0 - f.x, f.x) * vec4(1.0 - f.y, 1.0 - f.y, f.y, f.y);
+  bool complete = true;
+  [[unroll]] for (int j = 0; j < 4; ++j) {
+    [[unroll]] for (int i = 0; i < 4; ++i) {
+      if (!catmullRomTapRead(i, j)) continue;
+      bool has = imageLoad(historyMoments, tapTexel(catmullRom.first, i, j)).z > 0.0;
+      complete = complete && has;
+      if (!has && i >= 1 && i <= 2 && j >= 1 && j <= 2) bilinear[(j - 1) * 2 + (i - 1)] = 0.0;
+    }
+  }
+  float corners = (catmullRom.x[0] + catmullRom.x[3]) * (catmullRom.y[0] + catmullRom.y[3]);
+  return HistoryTaps(catmullRom.first, complete, catmullRom.x / (1.0 - corners), catmullRom.y,
+                     bilinear / max(dot(bilinear, vec4(1.0)), 1e-6));
+}
+
+float tapWeight(HistoryTaps taps, int i, int j) {
+  if (taps.complete) return taps.x[i] * taps.y[j];
+  bool inner = i >= 1 && i <= 2 && j >= 1 && j <= 2;
+  return inner ? taps.bilinear[(j - 1) * 2 + (i - 1)] : 0.0;
+}
+
+vec4 nearHistoryAt(vec2 position) {
+  HistoryTaps taps = historyTaps(position);
+  vec4 sum = vec4(0.0);
+  [[unroll]] for (int j = 0; j < 4; ++j)
+    [[unroll]] for (int i = 0; i < 4; ++i)
+      if (catmullRomTapRead(i, j))
+        sum += tapWeight(taps, i, j) * imageLoad(historyNear, tapTexel(taps.first, i, j));
+  return sum;
+}
+
+vec3 farHistoryAt(vec2 position) {
+  HistoryTaps taps = historyTaps(position);
+  vec3 sum = vec3(0.0);
+  [[unroll]] for (int j = 0; j < 4; ++j)
+    [[unroll]] for (int i = 0; i < 4; ++i)
+      if (catmullRomTapRead(i, j))
+        sum += tapWeight(taps, i, j) * imageLoad(historyFar, tapTexel(taps.first, i, j)).rgb;
+  return sum;
+}
+
 vec2 pixelOf(mat4 viewProj, vec3 world) {
   vec4 clip = viewProj * vec4(world, 1.0);
   return (clip.xy / clip.w * 0.5 + 0.5) * vec2(frame.imageSize);
@@ -144,7 +210,9 @@ void main() {
   vec4 nearNow = vec4(near.rgb * near.a, near.a);
   vec3 farNow = far.rgb * (1.0 - near.a);
   // Near layer: with the surface under the pixel.
-  vec4 nearHistory = pixelValid ? imageLoad(historyNear, ivec2(previousPixel)) : nearNow;
+  vec4 nearHistory = !pixelValid  ? nearNow
+                     : kMovedFrames ? nearHistoryAt(previousPixel)
+                                    : imageLoad(historyNear, ivec2(previousPixel));
 
   // Far layer: where the background seen through this pixel was.
   bool farValid = push.reset == 0u && moments.z > 0.0;
@@ -155,7 +223,9 @@ void main() {
     farValid = push.reset == 0u && insideImage(previousFar) &&
                imageLoad(historyMoments, ivec2(previousFar)).z > 0.0;
   }
-  vec3 farHistory = farValid ? imageLoad(historyFar, ivec2(previousFar)).rgb : farNow;
+  vec3 farHistory = !farValid    ? farNow
+                    : kMovedFrames ? farHistoryAt(previousFar)
+                                   : imageLoad(historyFar, ivec2(previousFar)).rgb;
   // In motion, history outside what this frame's rays around the pixel saw is stale (a layer
   // moved over or off it): clamped into their range, as TAA does.
   if (changed) {

@@ -16,6 +16,7 @@ HybridDof::HybridDof(const gpu::Context& context, const GpuScene& scene)
                      {{"kChangedFrames", 0}, {"kMovedFrames", 0}}),
       spatial_(context, "hybrid_spatial.comp"),
       composite_(context, "hybrid_composite.comp"),
+      compositeMoving_(context, "hybrid_composite.comp", nullptr, {{"kCameraMoved", 1}}),
       debugView_(context, "debug_view.comp"),
       focusZone_(context, "focus_zone.comp") {}
 
@@ -115,7 +116,7 @@ void HybridDof::record(StepRecorder& steps, const FrameImages& images) const {
     if (!inTurns_)
       steps.step("hybrid_composite_copy",
                  [&](VkCommandBuffer cmd) { gpu::copyImage(cmd, images.dof.output, h.output); });
-    steps.dispatch(composite_,
+    steps.dispatch(moved_ ? compositeMoving_ : composite_,
                    {{"rays", m.rays},
                     {"sharp", g.color},
                     {"samplesAveraged", g.samplesAveraged},

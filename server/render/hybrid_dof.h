@@ -43,7 +43,10 @@ class HybridDof {
   // hybrid_temporal.comp for frames in which the camera moved, those in which only the lens
   // changed, and the others.
   gpu::ComputeProgram temporalMoved_, temporalLens_, temporalStill_;
-  gpu::ComputeProgram spatial_, composite_, debugView_, focusZone_;
+  gpu::ComputeProgram spatial_;
+  // The composite of frames in which the camera did not move, and of those in which it did.
+  gpu::ComputeProgram composite_, compositeMoving_;
+  gpu::ComputeProgram debugView_, focusZone_;
   bool hasHistory_ = false;
   uint32_t current_ = 0;      // the history set the last frame wrote
   uint32_t stillFrames_ = 0;  // frames since the camera or the lens last changed

@@ -64,6 +64,10 @@ HDOF_CONST float kRayMaskVarianceNew = 60000.0;
 // Rays a pixel has accumulated from which the hybrid composite shows its traced colour alone
 // (hybrid_composite.comp); on a resting view, the ray mask gives such pixels the full rays.
 HDOF_CONST float kHybridTrustedRays = 48.0;
+// ... and while the camera moves, from half as many: the history's window is short then (it
+// lags less), and the post-process, whose raster has one sample a frame, is further from the
+// lens's image than at rest.
+HDOF_CONST float kHybridMovingTrustedRays = 24.0;
 // The composite's noise test (hybrid_spatial.comp writes each pixel's terms, hybrid_composite.comp
 // sums them): the frames of a pixel's rays from which their variance is measured well enough (from
 // 12 on, the gain between the 8th and the 16th frame was half as large; from 4, the 4th frames of
