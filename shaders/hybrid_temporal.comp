@@ -198,7 +198,9 @@ void main() {
   // frame to frame): a frame's weight is its share of the rays in the window, which is
   // 1 / minBlend frames at the full rays per pixel.
   float rays = float(entry.y);
-  bool moving = frame.previousViewProj != frame.viewProj;
+  // The camera moved: this pipeline serves only such frames (hybrid_dof.cpp picks it when the
+  // frame's matrices differ; comparing them here cost every thread 32 loads and compares).
+  bool moving = kMovedFrames;
   // A lens change (a focus pull) moves the blur as motion moves the image: the history is clamped
   // to this frame's rays as in motion, over the window that follows a change.
   bool changed = kChangedFrames && (moving || frame.stillFrames == 0u);
