@@ -20,6 +20,8 @@ export class Connection {
     this.attempt = 0;
     this.retryTimer = 0;
     this.lastError = null;
+    // Why the last session ended, kept while reconnection attempts fail to reach the daemon.
+    this.cause = null;
     this.stopped = false;
   }
 
@@ -36,7 +38,10 @@ export class Connection {
     this.status('connecting');
     const socket = new WebSocket(this.url, protocol.SUBPROTOCOL);
     socket.binaryType = 'arraybuffer';
-    socket.onopen = () => this.sendRaw(socket, protocol.hello(this.viewport, this.token));
+    socket.onopen = () => {
+      socket.opened = true;
+      this.sendRaw(socket, protocol.hello(this.viewport, this.token));
+    };
     socket.onmessage = (event) => this.receive(socket, event.data);
     socket.onclose = (event) => this.closed(socket, event);
     this.socket = socket;
@@ -94,6 +99,7 @@ export class Connection {
       this.welcome = message;
       this.attempt = 0;
       this.lastError = null;
+      this.cause = null;
       this.status('live');
       this.handlers.onWelcome?.(message);
     } else if (message.type === 'picked') {
@@ -121,7 +127,11 @@ export class Connection {
       return;
     }
     const delay = Math.min(BACKOFF_MAX_MS, BACKOFF_FIRST_MS * 2 ** this.attempt++);
-    const why = event.code === protocol.CLOSE.GOING_AWAY ? 'the daemon stopped' : reason;
+    // A socket that never opened did not reach the daemon: the cause is still the one before.
+    if (socket.opened) {
+      this.cause = event.code === protocol.CLOSE.GOING_AWAY ? 'the daemon stopped' : reason;
+    }
+    const why = this.cause ?? 'cannot reach the daemon';
     this.status('reconnecting', `${why}; reconnect attempt ${this.attempt} in ${(delay / 1000).toFixed(1)} s`);
     this.retryTimer = setTimeout(() => this.open(this.viewport), delay);
   }

@@ -7,6 +7,7 @@ import { test } from 'node:test';
 import {
   DOLLY_STEP, dollyStandoff, dollyToward, flySpeed, flyStep, forwardOf, look, orbitAbout, pan, rayThrough,
 } from '../../client_web/camera.js';
+import { Connection } from '../../client_web/connection.js';
 import { bannerText, statusText } from '../../client_web/feedback.js';
 import { describeLens, scalePosition } from '../../client_web/lens.js';
 import {
@@ -263,4 +264,57 @@ test('the status waits for the first frame; a lost daemon gets a banner with its
   const second = bannerText({ state: 'reconnecting', message: 'closed (1006)', attempt: 2 });
   assert.match(second, /\(1 attempt failed so far\)\.$/);
   assert.match(bannerText({ state: 'reconnecting', message: 'closed (1006)', attempt: 1 }), /back\.$/);
+});
+
+// A stand-in for the browser's WebSocket: the test opens and closes each socket by hand.
+class FakeSocket {
+  static OPEN = 1;
+  static made = [];
+  constructor(url, subprotocol) {
+    Object.assign(this, { url, subprotocol, readyState: 0, sent: [] });
+    FakeSocket.made.push(this);
+  }
+  send(text) { this.sent.push(JSON.parse(text)); }
+  close() { this.readyState = 3; }
+  open() {
+    this.readyState = 1;
+    this.onopen();
+  }
+  closeFromServer(code) {
+    this.readyState = 3;
+    this.onclose({ code, reason: '' });
+  }
+}
+
+test('while reconnection attempts fail, the banner still says why the session ended', (t) => {
+  t.mock.timers.enable({ apis: ['setTimeout'] });
+  globalThis.WebSocket = FakeSocket;
+  t.after(() => delete globalThis.WebSocket);
+  const statuses = [];
+  const connection = new Connection('ws://daemon/session', { onStatus: (status) => statuses.push(status) });
+  connection.open({ width: 480, height: 270 });
+  FakeSocket.made.at(-1).open();
+  assert.equal(FakeSocket.made.at(-1).sent[0].type, 'hello');
+  connection.receive(FakeSocket.made.at(-1), JSON.stringify({ type: 'welcome' }));
+  assert.equal(statuses.at(-1).state, 'live');
+  FakeSocket.made.at(-1).closeFromServer(protocol.CLOSE.GOING_AWAY);
+  assert.match(statuses.at(-1).message, /^the daemon stopped; reconnect attempt 1 in 0\.5 s/);
+  // The daemon is gone: each attempt's socket closes without opening (1006).
+  for (const attempt of [2, 3]) {
+    t.mock.timers.tick(10000);
+    FakeSocket.made.at(-1).closeFromServer(1006);
+    assert.equal(statuses.at(-1).state, 'reconnecting');
+    assert.match(statuses.at(-1).message, new RegExp(`^the daemon stopped; reconnect attempt ${attempt} in`));
+  }
+  // Back: a live session forgets the cause; a daemon never reached says so.
+  t.mock.timers.tick(10000);
+  FakeSocket.made.at(-1).open();
+  connection.receive(FakeSocket.made.at(-1), JSON.stringify({ type: 'welcome' }));
+  assert.equal(statuses.at(-1).state, 'live');
+  connection.close();
+  const fresh = new Connection('ws://daemon/session', { onStatus: (status) => statuses.push(status) });
+  fresh.open({ width: 480, height: 270 });
+  FakeSocket.made.at(-1).closeFromServer(1006);
+  assert.match(statuses.at(-1).message, /^cannot reach the daemon; reconnect attempt 1/);
+  fresh.close();
 });
