@@ -27,12 +27,13 @@ const Command kCommands[] = {
      hdof::runServe},
     {"load", "scripted load: N WebSocket sessions against a daemon; frames/s, latency, errors",
      hdof::runLoad},
-    {"render", "render a still image of a scene (pinhole raster or thin-lens reference)",
+    {"render", "render a still image or a camera path's frames in any mode (PNG or JPEG)",
      hdof::runRender},
     {"compare", "print PSNR and SSIM between two images, optionally inside a mask",
      hdof::runCompare},
     {"quality", "measure each mode against a converged ray-traced reference", hdof::runQuality},
-    {"bench", "measure G-buffer time, ray traversal speed and BVH build time", hdof::runBench},
+    {"bench", "time each mode's frames and passes, lens-only and moving frames, rays/s",
+     hdof::runBench},
 };
 
 // Bad usage or bad input (exit code 2), as opposed to a failure of the machine (exit code 1).
