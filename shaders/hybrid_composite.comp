@@ -4,11 +4,12 @@
 // over to the traced colour as rays add up (on a still view as their count weighs against the
 // raster's samples); in the near field the ray-traced colour, except bright specular bokeh where
 // the post-process wins by the specular intensity; in the far field the ray-traced colour where
-// near geometry covers the pixel (hit ratio) and inside the traced region, fading to the
-// post-process over the last pixels before the mask's edge, so that the edge leaves no seam. In
-// the near field and inside the traced region, the traced colour is shown as far as it differs
-// from the post-process by more than its noise. One thread per pixel of the ray mask's work list:
-// the others hold the post-process's colour already (step hybrid_composite_copy).
+// near geometry covers the pixel (hit ratio) and inside the traced region (while the camera moves,
+// half of it), fading to the post-process over the last pixels before the mask's edge, so that the
+// edge leaves no seam. In the near field and inside the traced region, the traced colour is shown
+// as far as it differs from the post-process by more than its noise. One thread per pixel of the
+// ray mask's work list: the others hold the post-process's colour already (step
+// hybrid_composite_copy).
 #version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
@@ -51,6 +52,8 @@ const float kConvergedRays = 32.0;
 const float kRasterSampleRays = 2.0;
 // Specular radiance at which a near-field bokeh highlight is left to the post-process.
 const float kBokehSpecular = 4.0;
+// The share of the far field's traced colour inside the traced region while the camera moves.
+const float kMovingInside = 0.5;
 
 // How far inside the traced region the pixel lies: the share of eight pixels on a circle of
 // radius kSeamFade around it that the mask traced, from 0.5 on the edge to 1 well inside.
@@ -147,7 +150,10 @@ void main() {
     float bokeh = clamp(luminance(imageLoad(specular, pixel).rgb) / kBokehSpecular, 0.0, 1.0);
     color = mix(pp, traced, trust * (1.0 - bokeh) * beyondNoise);
   } else {
-    float inside = smoothstep(0.5, 1.0, tracedShare(pixel));
+    // Where no near geometry covers the pixel the traced colour refines a far blur that the
+    // post-process renders too. While the camera moves its noise is not measured (the history's
+    // window is a few frames), so there it shows at half the weight.
+    float inside = smoothstep(0.5, 1.0, tracedShare(pixel)) * (kCameraMoved ? kMovingInside : 1.0);
     color = mix(pp, traced,
                 trust * max(smoothstep(0.0, kFarBlendRatio, ratio), inside * beyondNoise));
   }
