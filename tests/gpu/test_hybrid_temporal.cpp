@@ -382,6 +382,18 @@ struct WideOpenHybrid {
   FrameRequest request = requestFor(spec, scene.scene);
 };
 
+// The last frame of a truck of `frames` frames (renderTruckOnto) ending at the spec's view.
+ImageRgba8 truckImage(const RenderSpec& spec, RenderMode mode, uint32_t rays, int frames,
+                      float step) {
+  SceneOnGpu& scene = testScene(spec.scene);
+  FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
+  FrameRequest request = requestFor(spec, scene.scene);
+  request.mode = mode;
+  request.settings.samplesPerPixel = rays;
+  renderTruckOnto(pipeline, request, frames, step);
+  return pipeline.image();
+}
+
 const ImageRgba8& wideOpenReference() {
   static const ImageRgba8 reference = renderImage(wideOpen(), RenderMode::Reference, 256);
   return reference;
@@ -433,14 +445,8 @@ TEST(HybridMode, InMotionItsRaysBeatThePostProcessWhereItMustInventTheBackground
   RenderSpec spec = wideOpen();
   ImageRgba8 region = maskImage(occlusionRegion(spec), spec.width, spec.height);
   const ImageRgba8& reference = wideOpenReference();
-  SceneOnGpu& scene = testScene(spec.scene);
   auto moving = [&](RenderMode mode) {
-    FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-    FrameRequest request = requestFor(spec, scene.scene);
-    request.mode = mode;
-    request.settings.samplesPerPixel = 16;
-    renderTruckOnto(pipeline, request, 13, 0.004f);
-    return psnrOf(pipeline.image(), reference, region);
+    return psnrOf(truckImage(spec, mode, 16, 13, 0.004f), reference, region);
   };
   auto [ppWhole, ppRegion] = moving(RenderMode::PostProcess);
   auto [hybridWhole, hybridRegion] = moving(RenderMode::Hybrid);
@@ -465,14 +471,8 @@ TEST(HybridMode, InMotionAFarBlurThePostProcessRendersWellIsNotStippled) {
   spec.height = 360;
   spec.lens = Lens{32.0f, 2.0f, 1.2f};
   const ImageRgba8 reference = renderImage(spec, RenderMode::Reference, 256);
-  SceneOnGpu& scene = testScene(spec.scene);
   auto moving = [&](RenderMode mode) {
-    FramePipeline pipeline(testContext(), scene.scene, *scene.gpu, spec.width, spec.height);
-    FrameRequest request = requestFor(spec, scene.scene);
-    request.mode = mode;
-    request.settings.samplesPerPixel = 4;
-    renderTruckOnto(pipeline, request, 13, 0.012f);
-    return compareImages(pipeline.image(), reference).psnrDb;
+    return compareImages(truckImage(spec, mode, 4, 13, 0.012f), reference).psnrDb;
   };
   double postProcess = moving(RenderMode::PostProcess);
   double hybrid = moving(RenderMode::Hybrid);
