@@ -31,6 +31,8 @@ constexpr auto kPingEvery = std::chrono::seconds(2);
 constexpr auto kPingGrace = std::chrono::seconds(1);
 // A ping's payload: 64 random bits in hex (text: libwebsockets checks a pong's payload as UTF-8).
 constexpr size_t kPingBytes = 16;
+// How long the daemon, on its way out, waits for the clients to close what it closed.
+constexpr auto kLingerAtExit = std::chrono::seconds(1);
 using PingPayload = std::array<char, kPingBytes>;
 
 // On every HTTP response: no MIME sniffing, and the page may load and connect to its own origin
@@ -281,6 +283,7 @@ WsServer::WsServer(const ServerOptions& options, SessionTemplate session, Render
 
 WsServer::~WsServer() {
   if (context_) lws_context_destroy(context_);
+  lingering_.finish(kLingerAtExit);
 }
 
 void WsServer::run() {
@@ -366,6 +369,7 @@ int WsServer::onSession(lws* wsi, int reason, Connection*& slot, void* in, size_
     case LWS_CALLBACK_SERVER_WRITEABLE:
       return slot ? writeNext(wsi, *slot) : 0;
     case LWS_CALLBACK_CLOSED:
+      lingering_.add(lws_get_socket_fd(wsi));
       if (slot) closed(*slot);
       delete slot;
       slot = nullptr;
@@ -703,6 +707,7 @@ void WsServer::pong(Connection& c, const void* payload, size_t len) {
 
 void WsServer::tick() {
   lws_sul_schedule(context_, 0, &lws_->tick.sul, Callbacks::tick, kTickUs);
+  lingering_.drain();
   Clock::time_point now = Clock::now();
   auto timeout = std::chrono::milliseconds(1000 * options_.clientTimeoutS);
   auto pingEvery = std::min<Clock::duration>(timeout / 3, kPingEvery);

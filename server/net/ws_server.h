@@ -11,10 +11,12 @@
 // Acks count only for frames written. Every welcomed session is pinged with a random payload
 // every 2 s (client_timeout_s / 3 when shorter), which only a client that reads what came before
 // can echo: one that leaves a ping unanswered for a second is not scheduled until it answers, and
-// one that has echoed none for client_timeout_s is cut off.
+// one that has echoed none for client_timeout_s is cut off. A session's socket lingers after
+// its close (net/lingering_close.h).
 #pragma once
 
 #include "net/access_policy.h"
+#include "net/lingering_close.h"
 #include "net/metrics.h"
 #include "net/render_loop.h"
 #include "net/server_messages.h"
@@ -122,6 +124,7 @@ class WsServer {
   Metrics& metrics_;
   lws_context* context_ = nullptr;
   int port_ = 0;
+  LingeringClose lingering_;
 
   std::map<uint64_t, Connection*> connections_;
   uint64_t nextId_ = 1;
