@@ -1,6 +1,8 @@
 #include "net/lingering_close.h"
 
+#include <linux/sockios.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -11,14 +13,16 @@ namespace hdof::net {
 namespace {
 
 // Reads and drops what the socket holds; true while the peer may still send (no end of input, no
-// error).
-bool stillOpen(int fd) {
+// error) and has not acknowledged all that was sent (the end of output, FIN, counts as a byte).
+bool stillNeeded(int fd) {
   char buffer[4096];
   while (true) {
     ssize_t n = recv(fd, buffer, sizeof(buffer), MSG_DONTWAIT);
     if (n > 0) continue;
     if (n < 0 && errno == EINTR) continue;
-    return n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK);
+    if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) return false;
+    int unacknowledged = 0;
+    return ioctl(fd, SIOCOUTQ, &unacknowledged) == 0 && unacknowledged > 0;
   }
 }
 
@@ -42,21 +46,21 @@ void LingeringClose::add(int fd) {
 void LingeringClose::drain() {
   Clock::time_point now = Clock::now();
   std::erase_if(sockets_, [&](const Socket& socket) {
-    if (stillOpen(socket.fd) && now < socket.until) return false;
+    if (stillNeeded(socket.fd) && now < socket.until) return false;
     close(socket.fd);
     return true;
   });
 }
 
 void LingeringClose::finish(std::chrono::milliseconds within) {
+  // Acknowledgements wake no poll: the sockets are looked at every kPollStep.
+  constexpr auto kPollStep = std::chrono::milliseconds(10);
   Clock::time_point deadline = Clock::now() + within;
   drain();
-  while (!sockets_.empty()) {
-    auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (left <= 0) break;
+  while (!sockets_.empty() && Clock::now() < deadline) {
     std::vector<pollfd> fds;
     for (const Socket& socket : sockets_) fds.push_back({socket.fd, POLLIN, 0});
-    if (poll(fds.data(), fds.size(), int(left)) < 0 && errno != EINTR) break;
+    poll(fds.data(), fds.size(), int(kPollStep.count()));
     drain();
   }
   for (const Socket& socket : sockets_) close(socket.fd);

@@ -31,8 +31,8 @@ constexpr auto kPingEvery = std::chrono::seconds(2);
 constexpr auto kPingGrace = std::chrono::seconds(1);
 // A ping's payload: 64 random bits in hex (text: libwebsockets checks a pong's payload as UTF-8).
 constexpr size_t kPingBytes = 16;
-// How long the daemon, on its way out, waits for the clients to close what it closed.
-constexpr auto kLingerAtExit = std::chrono::seconds(1);
+// How long the daemon, on its way out, waits for slow clients to receive the end of their session.
+constexpr auto kLingerAtExit = std::chrono::seconds(2);
 using PingPayload = std::array<char, kPingBytes>;
 
 // On every HTTP response: no MIME sniffing, and the page may load and connect to its own origin
